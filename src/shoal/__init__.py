@@ -1,0 +1,25 @@
+"""shoal: weakly-compressible SPH for free-surface coastal and hydraulic flows.
+
+The public API:
+
+* `Case` and the built-in cases in `shoal.cases`;
+* `SPHOptions` (kernel, viscosity, density diffusion, filters, integrator);
+* `Model` (particles + scheme + backend) and `Simulation` (time loop with
+  scheduled callbacks: `TimeInterval`, `IterationInterval`, `WallTimeInterval`);
+* `run_case`, which runs a case end to end and writes VTU snapshots;
+* errors `InputError` and `InstabilityError`.
+"""
+
+__version__ = "0.1.0"
+
+from . import cases  # noqa: E402
+from .case import Case  # noqa: E402
+from .errors import InputError, InstabilityError, ShoalError  # noqa: E402
+from .model import Model  # noqa: E402
+from .options import SPHOptions  # noqa: E402
+from .runner import RunResult, run_case  # noqa: E402
+from .simulation import IterationInterval, Simulation, TimeInterval, WallTimeInterval  # noqa: E402
+
+__all__ = ["Case", "SPHOptions", "Model", "Simulation", "TimeInterval", "IterationInterval",
+           "WallTimeInterval", "run_case", "RunResult", "cases", "InputError", "InstabilityError",
+           "ShoalError", "__version__"]

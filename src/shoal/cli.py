@@ -1,0 +1,138 @@
+"""The ``shoal`` command line.
+
+    shoal run [CASE] [--dp M] [--end-time S] [--output-interval S] [--out DIR]
+              [--precision float32|float64] [--backend cpu] [--integrator NAME]
+    shoal cases
+    shoal info
+
+Bad input prints one line ``shoal: error: ...`` and exits with status 2;
+a run that goes unstable prints where and why and exits with status 3.
+"""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+import sys
+
+from .errors import InputError, InstabilityError
+
+DEFAULT_CASE = "dam-break-2d"
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2 (argparse prints usage first otherwise)
+        sys.stderr.write(f"shoal: error: {message}\n")
+        raise SystemExit(2)
+
+
+def _positive_float(name):
+    def conv(text):
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
+        if not v > 0 or v != v or v == float("inf"):
+            raise argparse.ArgumentTypeError(f"{name} must be a positive number, got {text!r}")
+        return v
+    return conv
+
+
+def build_parser():
+    p = _Parser(prog="shoal", description="Weakly-compressible SPH for free-surface coastal and hydraulic flows.")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    r = sub.add_parser("run", help="run a built-in case (default: the 2D dam-break demo)")
+    r.add_argument("case", nargs="?", default=DEFAULT_CASE, help="built-in case name (see `shoal cases`)")
+    r.add_argument("--dp", type=_positive_float("--dp"), help="particle spacing [m]")
+    r.add_argument("--end-time", type=_positive_float("--end-time"), help="simulated time [s]")
+    r.add_argument("--output-interval", type=_positive_float("--output-interval"),
+                   help="time between snapshots [s]")
+    r.add_argument("--out", default=None, help="output directory (default: runs/CASE)")
+    r.add_argument("--precision", choices=["float32", "float64"], default=None)
+    r.add_argument("--backend", default="cpu", help="compute backend: cpu")
+    r.add_argument("--integrator", choices=["verlet", "symplectic", "predictor_corrector"], default=None)
+    r.add_argument("--kernel", choices=["wendland", "cubic"], default=None)
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--no-plot", action="store_true", help="no PNG of the final state")
+    sub.add_parser("cases", help="list the built-in cases")
+    sub.add_parser("info", help="show the backends available here")
+    return p
+
+
+def _make_case(args):
+    from dataclasses import replace
+
+    from .cases import CASES, get_case
+
+    if args.case not in CASES:
+        raise InputError(f"unknown case {args.case!r}; built-in cases: {', '.join(CASES)}")
+    kwargs = {}
+    if args.dp is not None:
+        kwargs["dp"] = args.dp
+    if args.output_interval is not None:
+        kwargs["output_interval"] = args.output_interval
+    if args.end_time is not None:
+        kwargs["end_time"] = args.end_time
+    case = get_case(args.case, **kwargs)
+    changes = {k: getattr(args, k) for k in ("precision", "integrator", "kernel") if getattr(args, k) is not None}
+    if changes:
+        case.options = replace(case.options, **changes)
+    return case
+
+
+def cmd_run(args):
+    from .runner import run_case
+
+    case = _make_case(args)
+    out = args.out or f"runs/{case.name}"
+    print(f"shoal: {case.name}: {case.n_particles} particles ({case.n_fluid} fluid), dp = {case.dp:g} m, "
+          f"t_end = {case.end_time:g} s, {case.options.precision}, backend {args.backend}")
+    res = run_case(case, out, backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
+                   plot=not args.no_plot)
+    print(f"shoal: {res.steps} steps to t = {res.time:.4g} s in {res.wall_seconds:.1f} s "
+          f"({res.compile_seconds:.1f} s compiling), {res.particle_steps_per_second:.3g} particle-steps/s; "
+          f"{res.snapshots} snapshots in {res.out_dir}/ ({case.name}.pvd); escaped particles: {res.escaped}")
+    return 0
+
+
+def cmd_cases(args):
+    from .cases import CASES
+
+    for name, fn in CASES.items():
+        doc = inspect.getdoc(fn) or ""
+        print(f"{name:26s} {doc.splitlines()[0] if doc else ''}")
+    return 0
+
+
+def cmd_info(args):
+    import numba
+
+    from . import __version__
+
+    print(f"shoal {__version__}")
+    print(f"cpu: available, {numba.get_num_threads()} threads (numba {numba.__version__})")
+    print("cuda: not available in this version (planned: --backend cuda)")
+    return 0
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 0
+    try:
+        return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info}[args.command](args)
+    except InputError as err:
+        sys.stderr.write(f"shoal: error: {err}\n")
+        return 2
+    except InstabilityError as err:
+        sys.stderr.write(f"shoal: run stopped: {err}\n")
+        return 3
+    except KeyboardInterrupt:
+        sys.stderr.write("shoal: interrupted; snapshots written so far are kept\n")
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,259 @@
+"""A Model: particles + scheme options + domain + compiled backend.
+
+The Model owns the particle arrays (in the working precision, stored in
+cell order), the neighbour grid and the run-time constants, and offers the
+operations a time integrator is written with: `sort`, `compute_rates`,
+`time_step_limit`, `apply_filter`, `check`.
+
+Internal coordinates: 3D runs store (x, y, z); 2D runs store (x, z) (the
+x-z plane, gravity along -z). `world_positions` returns (N, 3) arrays.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .backends import get_backend
+from .errors import InputError, InstabilityError
+from .neighbours.grid import CellGrid
+from .options import SPHOptions
+from .physics.eos import GAMMA
+from .physics.spec import FIXED, FLUID, MOVING, SchemeSpec, make_params, params_array
+
+KIND_NAMES = {FLUID: "fluid", FIXED: "fixed boundary", MOVING: "moving boundary"}
+
+
+class Model:
+    """Particles, scheme and backend of one simulation.
+
+    Parameters
+    ----------
+    positions : (N, 3) array
+        Initial particle positions [m] (world x, y, z; y ignored in 2D).
+    kinds : (N,) int array
+        0 fluid, 1 fixed boundary, 2 moving boundary.
+    dp : float
+        Initial particle spacing [m].
+    dim : {2, 3}
+        Dimension; 2D runs use the x-z plane.
+    domain : (lo, hi)
+        Corners of the computational box [m] (3 numbers each; y ignored in
+        2D). Particles leaving it are taken out of the computation.
+    options : SPHOptions
+        Scheme options.
+    rho0 : float
+        Reference density [kg/m^3].
+    gravity : sequence of 3 floats
+        Gravity [m/s^2] (world x, y, z).
+    fluid_height : float
+        Reference fluid depth H [m]: c0 = coef_sound * sqrt(|g| H) unless
+        `u_max` is given.
+    u_max : float, optional
+        Maximum expected flow speed [m/s]; c0 = coef_sound * u_max.
+    surface_z : float, optional
+        Still free-surface level [m] for the initial hydrostatic density
+        rho = rho0 (1 + rho0 |g| (surface_z - z) / B)^(1/gamma); None starts
+        at rho0.
+    velocities : (N, 3) array, optional
+        Initial velocities [m/s].
+    backend : str
+        "cpu" (default).
+    """
+
+    def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
+                 gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
+                 velocities=None, backend="cpu"):
+        options = options or SPHOptions()
+        if dim not in (2, 3):
+            raise InputError(f"dim = {dim!r}; allowed 2 or 3")
+        if not (np.isfinite(dp) and dp > 0):
+            raise InputError(f"dp = {dp!r} m must be a positive number of metres")
+        positions = np.asarray(positions, dtype=np.float64)
+        kinds = np.asarray(kinds, dtype=np.int8)
+        if positions.ndim != 2 or positions.shape[1] != 3 or len(kinds) != len(positions):
+            raise InputError("positions must be an (N, 3) array with one kind per particle")
+        n_fluid = int(np.count_nonzero(kinds == FLUID))
+        if n_fluid == 0:
+            raise InputError("the case has no fluid particles; check the fluid region lies inside the domain "
+                             "and is larger than dp")
+        self.dim = dim
+        self.dp = float(dp)
+        self.options = options
+        self.spec = SchemeSpec.from_options(options, dim)
+        self.dtype = options.dtype
+        self.rho0 = float(rho0)
+        self.gravity = np.asarray(gravity, dtype=np.float64)
+        g = float(np.linalg.norm(self.gravity))
+        self.h = options.coef_h * math.sqrt(dim) * self.dp
+        if u_max is None:
+            if fluid_height is None or g == 0:
+                raise InputError("give u_max (maximum expected speed, m/s) or a fluid_height with gravity "
+                                 "to set the speed of sound")
+            u_max = math.sqrt(g * float(fluid_height))
+        self.u_max = float(u_max)
+        self.c0 = options.coef_sound * self.u_max
+        self.B = self.c0**2 * self.rho0 / GAMMA
+        self.mass = self.rho0 * self.dp**dim
+        self.params = make_params(self.spec, dp=self.dp, h=self.h, rho0=self.rho0, c0=self.c0, gamma=GAMMA,
+                                  gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass)
+        self.P = params_array(self.spec, self.params)  # what kernels receive
+
+        cols = [0, 1, 2] if dim == 3 else [0, 2]
+        lo = np.asarray(domain[0], dtype=np.float64)[cols]
+        hi = np.asarray(domain[1], dtype=np.float64)[cols]
+        n = len(positions)
+        self.n_total = n
+        self.grid = CellGrid(lo, hi, 2.0 * self.h, options.cells_per_support, n)
+        F = self.dtype
+        self.pos = np.ascontiguousarray(positions[:, cols], dtype=F)
+        vel = np.zeros((n, 3)) if velocities is None else np.asarray(velocities, dtype=np.float64)
+        self.vel = np.ascontiguousarray(vel[:, cols], dtype=F)
+        self.kind = kinds.copy()
+        self.idp = np.arange(n, dtype=np.int32)
+        rho = np.full(n, self.rho0)
+        if surface_z is not None and g > 0:
+            depth = np.clip(float(surface_z) - positions[:, 2], 0.0, None)
+            rho = self.rho0 * (1.0 + self.rho0 * g * depth / self.B) ** (1.0 / GAMMA)
+        self.rho = rho.astype(F)
+        # rates and work arrays
+        self.ace = np.zeros((n, dim), dtype=F)
+        self.drho = np.zeros(n, dtype=F)
+        self.vmax = np.zeros(n, dtype=F)
+        self.pr2 = np.zeros(n, dtype=F)
+        self.xsph = np.zeros((n, dim) if self.spec.xsph else (1, dim), dtype=F)
+        self.scratch = {
+            (np.dtype(F).str, dim): np.empty((n, dim), dtype=F),
+            (np.dtype(F).str, 0): np.empty(n, dtype=F),
+            (np.dtype(np.int32).str, 0): np.empty(n, dtype=np.int32),
+            (np.dtype(np.int8).str, 0): np.empty(n, dtype=np.int8),
+        }
+        self.extra_arrays = []  # integrator state arrays that follow the sort
+        self.backend = get_backend(backend, self.spec)
+        self.n = n
+        self.n_escaped = 0
+        self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
+
+    # ------------------------------------------------------------------ sizes
+    @property
+    def n_fluid(self):
+        """Number of active fluid particles."""
+        return int(np.count_nonzero(self.kind[: self.n] == FLUID))
+
+    def nbytes(self):
+        """Bytes of particle, work and grid arrays held by the model."""
+        arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.vmax,
+                  self.pr2, self.xsph, *self.scratch.values(), *self.extra_arrays]
+        return sum(a.nbytes for a in arrays) + self.grid.nbytes
+
+    def new_array(self, like):
+        """Allocate an integrator state array that follows the particle sort."""
+        a = like.copy()
+        self.extra_arrays.append(a)
+        return a
+
+    # ------------------------------------------------------------- operations
+    def sort(self):
+        """Bin particles into cells and reorder all arrays in cell order.
+
+        Particles outside the domain go to the end and leave the computation.
+        """
+        n_before = self.n
+        n = self.grid.bin(self.pos, n_before)
+        arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, *self.extra_arrays]
+        self.grid.reorder(arrays, n_before, self.scratch)
+        if n < n_before:
+            self.n_escaped += n_before - n
+            self.n = n
+            if self.n_fluid == 0:
+                raise InstabilityError("every fluid particle has left the domain")
+        return n
+
+    def compute_rates(self):
+        """Evaluate d rho/dt, dv/dt (and XSPH) of the active particles."""
+        b, n, P = self.backend, self.n, self.P
+        b.timed(b.pr2, n, (self.rho, self.pr2, P))
+        b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
+                             self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
+                             self.vmax))
+
+    def time_step_limit(self):
+        """Variable time step of Monaghan & Kos (1999), as in DualSPHysics:
+
+        dt = CFL min( sqrt(h / max|a|), h / (c0 + max |h v_ij.r_ij/(r^2+eta^2)|) ),
+        and dt <= 0.125 h^2 / nu for laminar viscosity (Morris et al. 1997).
+        """
+        o = self.options
+        if o.fixed_dt is not None:
+            return o.fixed_dt
+        a2, vm = self.backend.dt_terms(self.n, self.ace, self.vmax, self.kind)
+        h = self.h
+        dt_f = math.sqrt(h / math.sqrt(a2)) if a2 > 0 else math.inf
+        dt_cv = h / (self.c0 + vm)
+        dt = o.cfl * min(dt_f, dt_cv)
+        if o.viscosity == "laminar" and o.nu > 0:
+            dt = min(dt, 0.125 * h * h / o.nu)
+        return dt
+
+    def apply_filter(self, kind):
+        """Re-initialise fluid density with the "shepard" or "mls" filter."""
+        b, n, P = self.backend, self.n, self.P
+        out = self.scratch[(np.dtype(self.dtype).str, 0)]
+        kernel = b.shepard if kind == "shepard" else b.mls
+        b.timed(kernel, n, (self.pos, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
+                            self.grid.gdims_arr, P, out))
+        self.rho[:n] = out[:n]
+
+    def check(self, step, time):
+        """Raise InstabilityError naming the first particle with NaN/inf state
+        or a fluid density outside the sane band (0.7 rho0, 1.3 rho0)."""
+        i, code = self.backend.find_bad(self.n, self.pos, self.vel, self.rho, self.kind, *self.rho_range)
+        if i < 0:
+            return
+        where = self.world_positions()[i]
+        what = "non-finite position, velocity or density" if code == 1 else (
+            f"density {float(self.rho[i]):.6g} kg/m^3 outside the sane band "
+            f"[{self.rho_range[0]:.4g}, {self.rho_range[1]:.4g}]")
+        raise InstabilityError(
+            f"unstable at step {step}, t = {time:.6g} s: {KIND_NAMES.get(int(self.kind[i]), 'particle')} "
+            f"particle id {int(self.idp[i])} at (x, y, z) = ({where[0]:.4g}, {where[1]:.4g}, {where[2]:.4g}) m "
+            f"has {what}; likely causes: a time step too large (lower cfl or raise coef_sound), "
+            f"particles penetrating a wall, or too coarse a resolution")
+
+    # ---------------------------------------------------------------- output
+    def world_positions(self, active_only=True):
+        """(N, 3) float64 positions in world coordinates."""
+        n = self.n if active_only else self.n_total
+        out = np.zeros((n, 3))
+        if self.dim == 3:
+            out[:] = self.pos[:n]
+        else:
+            out[:, 0] = self.pos[:n, 0]
+            out[:, 2] = self.pos[:n, 1]
+        return out
+
+    def world_velocities(self):
+        """(N, 3) float64 velocities of the active particles."""
+        out = np.zeros((self.n, 3))
+        if self.dim == 3:
+            out[:] = self.vel[: self.n]
+        else:
+            out[:, 0] = self.vel[: self.n, 0]
+            out[:, 2] = self.vel[: self.n, 1]
+        return out
+
+    def pressure(self):
+        """Tait pressure [Pa] of the active particles (float64)."""
+        r = self.rho[: self.n].astype(np.float64) / self.rho0
+        return self.B * (r**GAMMA - 1.0)
+
+    def fields(self):
+        """Point data of the active particles for snapshots."""
+        return {
+            "velocity": self.world_velocities(),
+            "density": self.rho[: self.n].astype(np.float64),
+            "pressure": self.pressure(),
+            "id": self.idp[: self.n].copy(),
+            "kind": self.kind[: self.n].astype(np.int32),
+        }

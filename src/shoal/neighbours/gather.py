@@ -1,0 +1,77 @@
+"""The per-particle neighbour gather over a sorted uniform cell grid.
+
+Cells have size 2h / n (n = `cells_per_support`) and particles are stored
+in cell order with x the fastest cell index, so the cells (ix-n .. ix+n, iy,
+iz) form one contiguous range of particles: a particle visits (2n+1)^(dim-1)
+such x-ranges. Every pair within the support 2h is passed to ``pair``,
+which folds it into an accumulator tuple (written once, used by the rates,
+the filters and the probes, on every backend).
+"""
+
+
+def make_gather(jit, spec, pair):
+    """Return ``gather(i, own, acc, pos, cell, cell_start, gdims, data, P)``.
+
+    Parameters of the returned function
+    -----------------------------------
+    i : particle index; own : tuple of particle i's values passed to `pair`;
+    acc : accumulator tuple; pos : (N, dim) positions; cell : (N,) cell of
+    each particle at the last binning; cell_start : (ncell + 2,) first particle
+    of each cell; gdims : (nx, ny, nz); data : tuple of arrays passed to
+    `pair`; P : `Params`.
+
+    ``pair(acc, own, j, dx, dy, dz, r2, data, P)`` returns the new
+    accumulator; (dx, dy, dz) = r_i - r_j (dy = 0 in 2D, where the second
+    stored component is z).
+    """
+    n = spec.cells_per_support
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+
+    if dim == 3:
+        @jit
+        def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+            nx, ny, nz = gdims
+            c = cell[i]
+            ix = c % nx
+            t = c // nx
+            iy = t % ny
+            iz = t // ny
+            x0 = max(ix - n, 0)
+            x1 = min(ix + n, nx - 1)
+            xi, yi, zi = pos[i, 0], pos[i, 1], pos[i, 2]
+            supp2 = P.supp2
+            for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+                for y in range(max(iy - n, 0), min(iy + n, ny - 1) + 1):
+                    row = nx * (y + ny * z)
+                    for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
+                        dx = xi - pos[j, 0]
+                        dy = yi - pos[j, 1]
+                        dz = zi - pos[j, 2]
+                        r2 = dx * dx + dy * dy + dz * dz
+                        if r2 < supp2 and j != i:
+                            acc = pair(acc, own, j, dx, dy, dz, r2, data, P)
+            return acc
+    else:
+        @jit
+        def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+            nx, ny, nz = gdims
+            c = cell[i]
+            ix = c % nx
+            iz = c // nx
+            x0 = max(ix - n, 0)
+            x1 = min(ix + n, nx - 1)
+            xi, zi = pos[i, 0], pos[i, 1]
+            supp2 = P.supp2
+            for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+                row = nx * z
+                for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
+                    dx = xi - pos[j, 0]
+                    dz = zi - pos[j, 1]
+                    r2 = dx * dx + dz * dz
+                    if r2 < supp2 and j != i:
+                        acc = pair(acc, own, j, dx, zero, dz, r2, data, P)
+            return acc
+
+    return gather

@@ -1,0 +1,173 @@
+"""Uniform cell grid with a counting sort of particles by cell (CPU).
+
+The domain box [lo, hi) is cut into cells of size 2h / n (n =
+`cells_per_support`); the linear cell index is c = ix + nx (iy + ny iz)
+(x fastest). Each binning computes every particle's cell, sorts the
+particles by cell with a stable counting sort, and reorders the particle
+arrays so that neighbours are close in memory. Particles outside the box
+(or with a non-finite position) get the extra cell ``ncell`` and so sort
+to the end: the active particles are the first ``cell_start[ncell]``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ..errors import InputError
+
+MAX_CELLS = 2**31 - 16
+
+
+@numba.njit(parallel=True, cache=True)
+def _cell_index(pos, n, lo, inv_cs, dims, ncell, out):
+    dim = pos.shape[1]
+    for i in numba.prange(n):
+        c = 0
+        stride = 1
+        inside = True
+        for d in range(dim):
+            v = (pos[i, d] - lo[d]) * inv_cs
+            if not (v >= 0.0 and v < dims[d]):  # also catches NaN
+                inside = False
+                break
+            c += int(v) * stride
+            stride *= dims[d]
+        out[i] = c if inside else ncell
+
+
+@numba.njit(cache=True)
+def _counting_sort(cell, n, ncell, cell_start, perm):
+    # histogram
+    for c in range(ncell + 2):
+        cell_start[c] = 0
+    for i in range(n):
+        cell_start[cell[i] + 1] += 1
+    # exclusive prefix sum: cell_start[c] = first particle of cell c
+    for c in range(1, ncell + 2):
+        cell_start[c] += cell_start[c - 1]
+    # stable scatter (use the histogram slots as running offsets)
+    # cell_start[c] is advanced while scattering, then shifted back.
+    for i in range(n):
+        c = cell[i]
+        perm[cell_start[c]] = i
+        cell_start[c] += 1
+    for c in range(ncell + 1, 0, -1):
+        cell_start[c] = cell_start[c - 1]
+    cell_start[0] = 0
+
+
+@numba.njit(parallel=True, cache=True)
+def _gather_rows(a, perm, n, scratch):
+    m = a.shape[1]
+    for k in numba.prange(n):
+        p = perm[k]
+        for d in range(m):
+            scratch[k, d] = a[p, d]
+    for k in numba.prange(n):
+        for d in range(m):
+            a[k, d] = scratch[k, d]
+
+
+@numba.njit(parallel=True, cache=True)
+def _gather_1d(a, perm, n, scratch):
+    for k in numba.prange(n):
+        scratch[k] = a[perm[k]]
+    for k in numba.prange(n):
+        a[k] = scratch[k]
+
+
+@numba.njit(parallel=True, cache=True)
+def _sorted_cells(cell, perm, n, out):
+    for k in numba.prange(n):
+        out[k] = cell[perm[k]]
+
+
+class CellGrid:
+    """A uniform grid of cells over the box [lo, hi) and its particle sort.
+
+    Parameters
+    ----------
+    lo, hi : sequence of float, length dim
+        Lower and upper corners of the domain [m]; particles outside are
+        taken out of the computation.
+    support : float
+        Kernel support radius 2h [m].
+    cells_per_support : int
+        Cells per support radius (cell size = support / cells_per_support).
+    capacity : int
+        Number of particles the work arrays are sized for.
+    """
+
+    def __init__(self, lo, hi, support, cells_per_support, capacity):
+        lo = np.asarray(lo, dtype=np.float64)
+        hi = np.asarray(hi, dtype=np.float64)
+        if lo.shape != hi.shape or lo.ndim != 1 or lo.size not in (2, 3):
+            raise InputError(f"domain bounds must be 2 or 3 numbers each, got lo={lo.tolist()} hi={hi.tolist()}")
+        if not np.all(hi > lo):
+            raise InputError(f"domain upper corner {hi.tolist()} must exceed the lower corner {lo.tolist()} in every direction")
+        self.dim = lo.size
+        self.n = int(cells_per_support)
+        self.cell_size = float(support) / self.n
+        dims = np.maximum(np.ceil((hi - lo) / self.cell_size).astype(np.int64), 1)
+        ncell = int(np.prod(dims))
+        if ncell > MAX_CELLS:
+            raise InputError(
+                f"the neighbour grid would need {ncell:.3g} cells (domain {(hi - lo).tolist()} m, cell "
+                f"{self.cell_size:.3g} m); enlarge dp or shrink the domain (at most {MAX_CELLS:.3g} cells)")
+        self.lo = lo
+        self.hi = lo + dims * self.cell_size
+        self.dims = dims
+        self.ncell = ncell
+        # (nx, ny, nz) as the gather expects; 2D grids are (nx, 1, nz)
+        if self.dim == 3:
+            self.gdims = (int(dims[0]), int(dims[1]), int(dims[2]))
+        else:
+            self.gdims = (int(dims[0]), 1, int(dims[1]))
+        self.gdims_arr = np.array(self.gdims, dtype=np.int64)
+        self.cell_start = np.zeros(ncell + 2, dtype=np.int32)
+        self.cell = np.zeros(capacity, dtype=np.int32)
+        self.perm = np.zeros(capacity, dtype=np.int32)
+        self._unsorted = np.zeros(capacity, dtype=np.int32)
+        self._dims = dims.astype(np.int64)
+        self._inv_cs = 1.0 / self.cell_size
+        self.n_active = 0
+
+    @property
+    def nbytes(self):
+        """Bytes held by the grid's arrays."""
+        return self.cell_start.nbytes + self.cell.nbytes + self.perm.nbytes + self._unsorted.nbytes
+
+    def bin(self, pos, n):
+        """Compute cells of the first `n` particles and the sort permutation.
+
+        After `bin`, ``perm[k]`` is the particle that goes to slot k; call
+        `reorder` on every particle array, which then leaves ``cell`` in
+        sorted order. Returns the number of particles inside the domain.
+        """
+        _cell_index(pos, n, self.lo, self._inv_cs, self._dims, self.ncell, self._unsorted)
+        _counting_sort(self._unsorted, n, self.ncell, self.cell_start, self.perm)
+        _sorted_cells(self._unsorted, self.perm, n, self.cell)
+        self.n_active = int(self.cell_start[self.ncell])
+        return self.n_active
+
+    def reorder(self, arrays, n, scratch):
+        """Permute each array's first `n` rows into cell order, in place.
+
+        `scratch` maps (dtype, ncols) to a work array at least n long;
+        no allocation happens here.
+        """
+        perm = self.perm
+        for a in arrays:
+            if a.ndim == 1:
+                _gather_1d(a, perm, n, scratch[(a.dtype.str, 0)])
+            else:
+                _gather_rows(a, perm, n, scratch[(a.dtype.str, a.shape[1])])
+
+    @staticmethod
+    def cells_for(lo, hi, support, cells_per_support):
+        """Number of cells a grid over [lo, hi) would have (for estimates)."""
+        cs = support / cells_per_support
+        return math.prod(max(math.ceil((b - a) / cs), 1) for a, b in zip(lo, hi))

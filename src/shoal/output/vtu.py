@@ -1,0 +1,177 @@
+"""Particle snapshots as VTK UnstructuredGrid (``.vtu``) files via meshio."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+__all__ = ["write_vtu", "read_vtu"]
+
+# dtypes that VTK/ParaView readers handle awkwardly (Int8 arrays are shown as
+# characters in some views, bool has no VTK type): widened to int32 on write.
+_WIDEN_TO_INT32 = (np.dtype(np.bool_), np.dtype(np.int8), np.dtype(np.uint8))
+
+
+def _prepare_point_data(point_data, n):
+    """Validate arrays, make them contiguous and convert awkward dtypes."""
+    prepared = {}
+    for name, values in point_data.items():
+        arr = np.asarray(values)
+        if arr.ndim not in (1, 2) or arr.shape[0] != n:
+            raise ValueError(
+                f"point_data[{name!r}] has shape {arr.shape}; "
+                f"expected ({n},) or ({n}, k)"
+            )
+        if arr.dtype in _WIDEN_TO_INT32:
+            arr = arr.astype(np.int32)
+        elif arr.dtype == np.float16:
+            arr = arr.astype(np.float32)
+        elif arr.dtype.kind not in "iuf":
+            raise TypeError(f"point_data[{name!r}] has unsupported dtype {arr.dtype}")
+        prepared[str(name)] = np.ascontiguousarray(arr)
+    return prepared
+
+
+def _insert_time(src, dst, time):
+    """Copy the meshio output ``src`` to ``dst`` adding a ``TimeValue`` FieldData."""
+    field = (
+        '<FieldData>\n<DataArray type="Float64" Name="TimeValue" '
+        f'NumberOfTuples="1" format="ascii">\n{float(time)!r}\n</DataArray>\n'
+        "</FieldData>\n"
+    )
+    with open(src, encoding="utf-8") as fin, open(dst, "w", encoding="utf-8") as fout:
+        # meshio writes the opening tag on its own short line near the top.
+        for line in fin:
+            fout.write(line)
+            if line.lstrip().startswith("<UnstructuredGrid"):
+                fout.write(field)
+                break
+        else:
+            raise RuntimeError("no <UnstructuredGrid> element in meshio output")
+        shutil.copyfileobj(fin, fout)
+
+
+def _fsync(path):
+    """Flush a closed file's contents to disk."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _read_empty(path):
+    """Return empty ``(points, point_data)`` if ``path`` has no points, else None."""
+    root = ET.parse(path).getroot()
+    piece = root.find("UnstructuredGrid/Piece")
+    if piece is None or int(piece.get("NumberOfPoints", "-1")) != 0:
+        return None
+
+    def empty_array(da):
+        dtype = np.dtype(da.get("type").lower())  # "Float64" -> float64 etc.
+        ncomp = int(da.get("NumberOfComponents", "1"))
+        multi = "NumberOfComponents" in da.attrib
+        return np.empty((0, ncomp) if multi else (0,), dtype=dtype)
+
+    pts_da = piece.find("Points/DataArray")
+    points = empty_array(pts_da) if pts_da is not None else np.empty((0, 3))
+    point_data = {
+        da.get("Name"): empty_array(da) for da in piece.iterfind("PointData/DataArray")
+    }
+    return points, point_data
+
+
+def write_vtu(path, points, point_data, time=None):
+    """Write particles to a binary, zlib-compressed ``.vtu`` file atomically.
+
+    Every particle becomes one VTK ``vertex`` cell, so ParaView renders the
+    particles without a Glyph filter. The file is first written to
+    ``<path>.tmp`` in the same directory and then moved over ``path`` with
+    :func:`os.replace`, so a crash never leaves a half-written snapshot.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        Destination file, normally ending in ``.vtu``.
+    points : array_like, shape (N, 3)
+        Particle positions ``(x, y, z)`` [m]. Two-dimensional runs pass
+        ``y = 0``. Written as given (float32 or float64).
+    point_data : dict of str to array_like
+        Per-particle fields, each of shape ``(N,)`` or ``(N, k)``, for example
+        ``velocity`` (N, 3) [m/s], ``density`` [kg/m^3], ``pressure`` [Pa],
+        ``id`` (int32/int64) and ``kind`` (particle type). ``bool``, ``int8``
+        and ``uint8`` arrays are stored as ``int32``; ``float16`` as
+        ``float32``; other integer and float dtypes are kept.
+    time : float, optional
+        Simulation time [s]; when given it is stored as the VTK field-data
+        array ``TimeValue``, which ParaView uses as the dataset time.
+
+    Raises
+    ------
+    ValueError
+        If ``points`` is not (N, 3) or a field's first dimension is not N.
+    TypeError
+        If a field has a non-numeric dtype.
+    """
+    path = os.fspath(path)
+    pts = np.asarray(points)
+    if pts.ndim != 2 or pts.shape[1] != 3:
+        raise ValueError(f"points must have shape (N, 3), got {pts.shape}")
+    if pts.dtype.kind != "f":
+        pts = pts.astype(np.float64)
+    pts = np.ascontiguousarray(pts)
+    n = pts.shape[0]
+    data = _prepare_point_data(point_data, n)
+    cells = [("vertex", np.arange(n, dtype=np.int64).reshape(-1, 1))]
+    mesh = meshio.Mesh(pts, cells, point_data=data)
+
+    tmp = path + ".tmp"
+    tmp_timed = path + ".tmp.t"
+    try:
+        # meshio cannot compress zero-length arrays: write empty files raw.
+        compression = "zlib" if n else None
+        meshio.write(
+            tmp, mesh, file_format="vtu", binary=True, compression=compression
+        )
+        if time is not None:
+            _insert_time(tmp, tmp_timed, time)
+            os.replace(tmp_timed, tmp)
+        _fsync(tmp)
+        os.replace(tmp, path)
+    finally:
+        for leftover in (tmp, tmp_timed):
+            if os.path.exists(leftover):
+                os.remove(leftover)
+
+
+def read_vtu(path):
+    """Read particles back from a ``.vtu`` file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File written by :func:`write_vtu` (or any point-based ``.vtu``).
+
+    Returns
+    -------
+    points : numpy.ndarray, shape (N, 3)
+        Particle positions [m], in the dtype stored in the file.
+    point_data : dict of str to numpy.ndarray
+        Per-particle fields, shape ``(N,)`` or ``(N, k)``, with their stored
+        dtypes (``int8``/``uint8``/``bool`` fields come back as ``int32``).
+    """
+    try:
+        mesh = meshio.read(Path(path), file_format="vtu")
+    except (IndexError, ValueError):
+        # meshio cannot read a mesh without points; handle that case here.
+        empty = _read_empty(path)
+        if empty is None:
+            raise
+        return empty
+    point_data = {name: np.asarray(v) for name, v in mesh.point_data.items()}
+    return np.asarray(mesh.points), point_data

@@ -1,0 +1,145 @@
+"""Rates of change of the WCSPH equations for one particle (all backends).
+
+Continuity (Monaghan 1992) with density diffusion D_i:
+    d rho_i/dt = sum_j m_j v_ij . grad_i W_ij + D_i
+Momentum with the symmetric pressure term, viscosity and gravity:
+    d v_i/dt = -sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + R_ij + Pi_ij) grad_i W_ij
+               + sum_j lam_ij v_ij + g
+(R_ij the Monaghan (2000) tensile correction when enabled, Pi_ij the
+artificial and lam_ij the laminar viscous term, see `viscosity`.)
+XSPH (Monaghan 1989): dx_i/dt = v_i + eps sum_j (m_j / rho_ij) v_ji W_ij.
+
+Dynamic boundary particles (Crespo, Gomez-Gesteira & Dalrymple 2007) obey
+the continuity equation with their fluid neighbours and the equation of
+state, and do not move by the forces; their density never drops below rho0
+(set in the integrator) so that they keep pushing fluid away.
+
+The time-step limit needs max_j |h v_ij . r_ij / (r_ij^2 + eta^2)|
+(Monaghan & Kos 1999), accumulated here per particle.
+"""
+
+from .spec import FLUID
+
+
+def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack):
+    """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
+    grid_dims, Parr, ace, drho, xsph, vmax)``, which writes particle i's rates.
+
+    `Parr` is the `Params` record array, `grid_dims` the (nx, ny, nz) array.
+
+    `pr2` holds p / rho^2 of every particle (computed once per evaluation).
+    `xsph` is written only when the scheme has XSPH.
+    """
+    F = spec.float_type
+    dim = spec.dim
+    zero, one = F(0.0), F(1.0)
+    w, grad_factor = kernels
+    tensile = spec.tensile
+    use_xsph = spec.xsph
+    t_pos, t_neg = F(0.01), F(-0.2)
+
+    @jit
+    def fluid_pair(acc, own, j, dx, dy, dz, r2, data, P):
+        ax, ay, az, dr, xx, xy, xz, vmax = acc
+        vix, viy, viz, rhoi, pr2i, ti = own
+        vel, rho, pr2, kind = data
+        r = r2 ** F(0.5)
+        q = r * P.inv_h
+        fr = grad_factor(q, P)
+        vjx = vel[j, 0]
+        vjz = vel[j, dim - 1]
+        vjy = vel[j, 1] if dim == 3 else zero
+        ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
+        vdotr = ux * dx + uy * dy + uz * dz
+        is_fluid = kind[j] == FLUID
+        mj = P.mass_f if is_fluid else P.mass_b
+        rhoj = rho[j]
+        # continuity
+        dr += mj * vdotr * fr
+        if is_fluid:
+            dr += diffusion(rhoi, rhoj, dx, dy, dz, fr, mj, P)
+        # momentum
+        pr2j = pr2[j]
+        prs = pr2i + pr2j
+        if tensile:
+            wq = w(q, P) * P.inv_wdp
+            wq2 = wq * wq
+            tj = pr2j * (t_pos if pr2j > zero else t_neg)
+            prs += wq2 * wq2 * (ti + tj)
+        pi_ij, lam = viscous(vdotr, r2, fr, mj, rhoi, rhoj, P)
+        f = -mj * (prs + pi_ij) * fr
+        ax += f * dx + lam * ux
+        ay += f * dy + lam * uy
+        az += f * dz + lam * uz
+        vmax = max(vmax, abs(P.h * vdotr / (r2 + P.eta2)))
+        if use_xsph:
+            if is_fluid:
+                c = mj * w(q, P) / ((rhoi + rhoj) * F(0.5))
+                xx -= c * ux
+                xy -= c * uy
+                xz -= c * uz
+        return ax, ay, az, dr, xx, xy, xz, vmax
+
+    @jit
+    def bound_pair(acc, own, j, dx, dy, dz, r2, data, P):
+        vix, viy, viz = own
+        vel, rho, pr2, kind = data
+        if kind[j] != FLUID:
+            return acc
+        q = r2 ** F(0.5) * P.inv_h
+        fr = grad_factor(q, P)
+        vjz = vel[j, dim - 1]
+        vjy = vel[j, 1] if dim == 3 else zero
+        vdotr = (vix - vel[j, 0]) * dx + (viy - vjy) * dy + (viz - vjz) * dz
+        return acc + P.mass_f * vdotr * fr
+
+    @jit
+    def particle_pr2(i, rho, pr2, Parr):
+        """p_i / rho_i^2 from the equation of state, once per evaluation."""
+        P = unpack(Parr)
+        r = rho[i]
+        pr2[i] = pressure(r, P) / (r * r)
+
+    gather_fluid = make_gather(jit, spec, fluid_pair)
+    gather_bound = make_gather(jit, spec, bound_pair)
+
+    @jit
+    def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax):
+        P = unpack(Parr)
+        gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
+        vix = vel[i, 0]
+        viz = vel[i, dim - 1]
+        viy = vel[i, 1] if dim == 3 else zero
+        data = (vel, rho, pr2, kind)
+        if kind[i] == FLUID:
+            pr2i = pr2[i]
+            ti = pr2i * (t_pos if pr2i > zero else t_neg)
+            own = (vix, viy, viz, rho[i], pr2i, ti)
+            acc = (zero, zero, zero, zero, zero, zero, zero, zero)
+            ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
+            ace[i, 0] = ax + P.gx
+            if dim == 3:
+                ace[i, 1] = ay + P.gy
+                ace[i, 2] = az + P.gz
+            else:
+                ace[i, 1] = az + P.gz
+            drho[i] = dr
+            vmax[i] = vm
+            if use_xsph:
+                xsph[i, 0] = P.xsph_eps * xx
+                if dim == 3:
+                    xsph[i, 1] = P.xsph_eps * xy
+                    xsph[i, 2] = P.xsph_eps * xz
+                else:
+                    xsph[i, 1] = P.xsph_eps * xz
+        else:
+            dr = gather_bound(i, (vix, viy, viz), zero, pos, cell, cell_start, gdims, data, P)
+            for d in range(dim):
+                ace[i, d] = zero
+            drho[i] = dr
+            vmax[i] = zero
+            if use_xsph:
+                for d in range(dim):
+                    xsph[i, d] = zero
+
+    return particle_pr2, particle_rates

@@ -1,0 +1,156 @@
+"""The compile-time description of a scheme and its run-time constants.
+
+`SchemeSpec` holds the discrete choices that select a specialised kernel
+(dimension, precision, kernel, viscosity, diffusion, tensile correction,
+XSPH, neighbour cells per support). `Params` holds the floating-point
+constants, cast to the working precision, passed to kernels at run time so
+that changing the resolution does not recompile anything.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+from dataclasses import dataclass
+
+import numpy as np
+
+FLUID, FIXED, MOVING = 0, 1, 2
+"""Particle kinds: fluid, fixed boundary particle, moving boundary particle."""
+
+KERNEL_IDS = {"wendland": 0, "cubic": 1}
+VISC_IDS = {"artificial": 0, "laminar": 1}
+DIFF_IDS = {"none": 0, "molteni": 1, "fourtakas": 2}
+
+
+@dataclass(frozen=True)
+class SchemeSpec:
+    """Discrete choices compiled into a kernel (one cached specialisation each)."""
+
+    dim: int
+    precision: str
+    kernel: int
+    viscosity: int
+    diffusion: int
+    tensile: bool
+    xsph: bool
+    cells_per_support: int
+
+    @classmethod
+    def from_options(cls, options, dim):
+        return cls(
+            dim=int(dim),
+            precision=options.precision,
+            kernel=KERNEL_IDS[options.kernel],
+            viscosity=VISC_IDS[options.viscosity],
+            diffusion=DIFF_IDS[options.density_diffusion],
+            tensile=bool(options.tensile_correction),
+            xsph=options.xsph > 0,
+            cells_per_support=int(options.cells_per_support),
+        )
+
+    @property
+    def key(self):
+        """Short deterministic string naming the specialisation."""
+        return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
+                f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}")
+
+    @property
+    def float_type(self):
+        return np.float32 if self.precision == "float32" else np.float64
+
+
+Params = namedtuple("Params", [
+    "h", "inv_h", "supp2", "eta2",
+    "aw", "agrad", "inv_wdp",
+    "rho0", "inv_rho0", "B", "c0", "rho0_c02",
+    "alpha", "nu4", "ddt_coef",
+    "mass_f", "mass_b",
+    "gx", "gy", "gz",
+    "xsph_eps",
+    "dim",
+])
+"""Run-time constants of a kernel, all in the working precision.
+
+h : smoothing length [m]; inv_h = 1/h; supp2 = (2h)^2; eta2 = 0.01 h^2.
+aw : kernel normalisation alpha_D (W = aw * f(q)); agrad : gradient
+normalisation such that grad W = agrad * g(q) * r_ij; inv_wdp = 1/W(dp)
+(tensile correction). rho0 [kg/m^3]; B = c0^2 rho0 / gamma [Pa]; c0 [m/s];
+rho0_c02 = rho0 / c0^2 [kg s^2/m^5] (Fourtakas
+hydrostatic density difference, linearised EOS). alpha: artificial
+viscosity; nu4 = 4 nu [m^2/s]; ddt_coef = 2 delta h c0. mass_f, mass_b:
+fluid and boundary particle masses [kg]. gx, gy, gz: gravity [m/s^2] in the
+internal components (2D runs store (x, z) and use gx, gz). xsph_eps: XSPH
+epsilon. dim: the dimension (an int, which also keeps the tuple heterogeneous:
+Numba's parallel loops reject homogeneous named tuples as loop arguments).
+"""
+
+
+def params_dtype(spec):
+    """NumPy record dtype holding `Params` in the working precision.
+
+    Kernels receive the constants as a one-element record array (Numba's
+    parallel loops accept arrays, not named tuples, as loop arguments) and
+    turn it into a `Params` tuple with `make_unpack`.
+    """
+    F = spec.float_type
+    return np.dtype([(name, np.int64 if name == "dim" else F) for name in Params._fields])
+
+
+def params_array(spec, params):
+    """One-element record array of `params` (see `params_dtype`)."""
+    a = np.zeros(1, dtype=params_dtype(spec))
+    for name in Params._fields:
+        a[0][name] = getattr(params, name)
+    return a
+
+
+def make_unpack(jit):
+    """Return ``unpack(Parr) -> Params`` compiled with `jit`."""
+
+    @jit
+    def unpack(Parr):
+        r = Parr[0]
+        return Params(r.h, r.inv_h, r.supp2, r.eta2, r.aw, r.agrad, r.inv_wdp, r.rho0, r.inv_rho0, r.B,
+                      r.c0, r.rho0_c02, r.alpha, r.nu4, r.ddt_coef, r.mass_f, r.mass_b, r.gx, r.gy, r.gz,
+                      r.xsph_eps, r.dim)
+
+    return unpack
+
+
+def kernel_normalisation(kernel, dim, h):
+    """alpha_D of the kernel so that the integral of W over space is 1.
+
+    Wendland C2: 7/(4 pi h^2) in 2D, 21/(16 pi h^3) in 3D (Wendland 1995).
+    Cubic spline: 10/(7 pi h^2) in 2D, 1/(pi h^3) in 3D (Monaghan & Lattanzio 1985).
+    """
+    if kernel == KERNEL_IDS["wendland"]:
+        return 7.0 / (4.0 * math.pi * h**2) if dim == 2 else 21.0 / (16.0 * math.pi * h**3)
+    return 10.0 / (7.0 * math.pi * h**2) if dim == 2 else 1.0 / (math.pi * h**3)
+
+
+def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b):
+    """Build `Params` for a run, cast to the working precision."""
+    F = spec.float_type
+    aw = kernel_normalisation(spec.kernel, spec.dim, h)
+    B = c0 * c0 * rho0 / gamma
+    # gradient: grad W = (dW/dr / r) r_ij = aw/h^2 * (dW/dq / q) r_ij
+    agrad = aw / (h * h)
+    qdp = dp / h
+    if spec.kernel == KERNEL_IDS["wendland"]:
+        wdp = aw * (1 - qdp / 2) ** 4 * (2 * qdp + 1)
+    else:
+        wdp = aw * (0.25 * max(2 - qdp, 0) ** 3 - max(1 - qdp, 0) ** 3)
+    g = np.asarray(gravity, dtype=float)
+    if spec.dim == 2:
+        gx, gy, gz = g[0], 0.0, g[-1]
+    else:
+        gx, gy, gz = g
+    vals = dict(
+        h=h, inv_h=1.0 / h, supp2=4.0 * h * h, eta2=0.01 * h * h,
+        aw=aw, agrad=agrad, inv_wdp=1.0 / wdp if wdp > 0 else 0.0,
+        rho0=rho0, inv_rho0=1.0 / rho0, B=B, c0=c0, rho0_c02=rho0 / (c0 * c0),
+        alpha=options.alpha, nu4=4.0 * options.nu, ddt_coef=2.0 * options.delta * h * c0,
+        mass_f=mass_f, mass_b=mass_b, gx=gx, gy=gy, gz=gz, xsph_eps=options.xsph,
+    )
+    return Params(**{k: F(v) for k, v in vals.items()}, dim=int(spec.dim))

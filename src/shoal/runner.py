@@ -1,0 +1,163 @@
+"""Run a Case end to end: model, simulation, snapshots, log, progress, plot.
+
+`run_case` is what ``shoal run`` calls; it is also the one-call Python API:
+
+>>> import shoal
+>>> result = shoal.run_case(shoal.cases.dam_break_2d(dp=0.004), "out/dam")   # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import platform
+import time as _time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from .errors import InstabilityError
+from .model import Model
+from .simulation import Simulation, TimeInterval
+from .simulation.writers import SnapshotWriter
+
+
+@dataclass
+class RunResult:
+    """What a finished run reports."""
+
+    out_dir: Path
+    steps: int
+    time: float
+    wall_seconds: float
+    compile_seconds: float
+    particles: int
+    escaped: int
+    snapshots: int
+    model: Model
+    simulation: Simulation
+
+    @property
+    def particle_steps_per_second(self):
+        run = self.wall_seconds - self.compile_seconds
+        return self.particles * self.steps / run if run > 0 else math.nan
+
+
+def build_model(case, backend="cpu"):
+    """The `Model` of a `Case`."""
+    return Model(case.positions, case.kinds, dp=case.dp, dim=case.dim, domain=case.domain,
+                 options=case.options, rho0=case.rho0, gravity=case.gravity,
+                 fluid_height=case.fluid_height, surface_z=case.surface_z, backend=backend)
+
+
+def _logger(out_dir):
+    log = logging.getLogger(f"shoal.run.{out_dir}")
+    log.setLevel(logging.INFO)
+    log.propagate = False
+    for h in list(log.handlers):
+        log.removeHandler(h)
+    fh = logging.FileHandler(out_dir / "run.log", mode="w")
+    fh.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
+    log.addHandler(fh)
+    return log
+
+
+class _Progress:
+    """A rich progress bar: simulated time, dt, steps/s and ETA."""
+
+    def __init__(self, end_time, enabled):
+        self.enabled = enabled
+        self.end_time = end_time
+        self.t0 = _time.perf_counter()
+        self.last_steps = 0
+        if enabled:
+            from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+            self.bar = Progress(TextColumn("[bold]t = {task.fields[t]:.4f} s"), BarColumn(),
+                                TextColumn("dt = {task.fields[dt]:.2e} s  {task.fields[sps]:.0f} steps/s"),
+                                TimeRemainingColumn(), transient=False)
+            self.task = self.bar.add_task("run", total=end_time, t=0.0, dt=0.0, sps=0.0)
+            self.bar.start()
+
+    def __call__(self, sim):
+        if not self.enabled:
+            return
+        now = _time.perf_counter()
+        sps = (sim.step_count - self.last_steps) / max(now - self.t0, 1e-9)
+        self.t0, self.last_steps = now, sim.step_count
+        self.bar.update(self.task, completed=sim.time, t=sim.time, dt=sim.dt or 0.0, sps=sps)
+
+    def stop(self):
+        if self.enabled:
+            self.bar.stop()
+
+
+def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=None):
+    """Run `case`, writing everything under `out_dir`.
+
+    Writes ``<name>.pvd`` and ``<name>_NNNN.vtu`` snapshots every
+    ``case.output_interval`` s, ``run.log``, ``resolved.json`` (all
+    parameters, defaults filled in) and ``<name>_final.png``. A run that goes
+    unstable writes ``<name>_unstable.vtu`` of the bad state, keeps what it
+    wrote, and raises `InstabilityError`.
+
+    Returns
+    -------
+    RunResult
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    log = _logger(out_dir)
+    model = build_model(case, backend)
+    sim = Simulation(model, case.end_time)
+    resolved = case.summary()
+    resolved.update(
+        shoal_version=__version__, backend=backend, python=platform.python_version(),
+        threads=model.backend.threads(), smoothing_length=model.h, speed_of_sound=model.c0,
+        eos_B=model.B, particle_mass=model.mass, solver_bytes=model.nbytes(),
+        bytes_per_particle=model.nbytes() / model.n_total,
+    )
+    (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
+    log.info("case %s: %s", case.name, case.description)
+    log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d threads, %s",
+             model.n_total, case.n_fluid, case.dp, model.h, model.c0, backend, model.backend.threads(),
+             case.options.precision)
+    writer = SnapshotWriter(out_dir, case.name)
+    sim.add_callback(writer, TimeInterval(case.output_interval), name="snapshots")
+    bar = _Progress(case.end_time, progress)
+    sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False),
+                     name="progress")
+
+    def log_step(s):
+        log.info("step %d t %.6g s dt %.4g s particles %d escaped %d", s.step_count, s.time, s.dt or 0.0,
+                 s.model.n, s.model.n_escaped)
+
+    sim.add_callback(log_step, TimeInterval(case.output_interval, exact=False), name="log")
+    try:
+        sim.run(max_steps=max_steps)
+    except InstabilityError as err:
+        bar.stop()
+        path = writer.write(model, sim.time, suffix="unstable")
+        log.error("%s; bad state written to %s", err, path.name)
+        raise InstabilityError(f"{err} (state written to {path})") from None
+    bar.stop()
+    if writer.last_time is None or writer.last_time < sim.time - 1e-12:
+        writer(sim)
+    if plot:
+        from .output import plot_particles
+
+        v = np.linalg.norm(model.world_velocities(), axis=1)
+        plot_particles(out_dir / f"{case.name}_final.png", model.world_positions(), v, kind=model.kind[: model.n],
+                       title=f"{case.name}  t = {sim.time:.3f} s", value_label="|v| [m/s]", dim=case.dim)
+    result = RunResult(out_dir, sim.step_count, sim.time, sim.wall_seconds, model.backend.compile_seconds,
+                       model.n_total, model.n_escaped, writer.count, model, sim)
+    log.info("done: %d steps to t = %.6g s in %.2f s wall (%.2f s compile), %.3g particle-steps/s, "
+             "%d particles escaped", result.steps, result.time, result.wall_seconds, result.compile_seconds,
+             result.particle_steps_per_second, result.escaped)
+    for h in list(log.handlers):
+        h.close()
+        log.removeHandler(h)
+    return result

@@ -1,0 +1,77 @@
+"""Schedules: when a callback (writer, probe, check) runs.
+
+`TimeInterval(dt)` fires at t = 0, dt, 2 dt, ... and (with ``exact=True``,
+the default) the simulation shortens the steps before each of these times
+so they are hit exactly;
+`IterationInterval(n)` fires every n steps; `WallTimeInterval(s)` every s
+seconds of wall-clock time.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+from ..errors import InputError
+
+
+class TimeInterval:
+    """Fire at multiples of `interval` seconds of simulated time."""
+
+    def __init__(self, interval, start=0.0, exact=True):
+        if not (interval > 0 and math.isfinite(interval)):
+            raise InputError(f"output interval = {interval!r} s must be a positive number of seconds")
+        self.interval = float(interval)
+        self.start = float(start)
+        self.exact = exact
+        self.count = 0
+
+    def next_time(self):
+        """The next time the simulation must land on exactly (inf if not exact)."""
+        return self.start + self.count * self.interval if self.exact else math.inf
+
+    def _next(self):
+        return self.start + self.count * self.interval
+
+    def due(self, sim):
+        t_next = self._next()
+        if sim.time >= t_next - 1e-9 * self.interval:
+            while self._next() <= sim.time + 1e-9 * self.interval:
+                self.count += 1
+            return True
+        return False
+
+
+class IterationInterval:
+    """Fire every `n` steps (and at step 0)."""
+
+    def __init__(self, n):
+        if int(n) < 1:
+            raise InputError(f"iteration interval = {n!r}; use an integer >= 1")
+        self.n = int(n)
+
+    def next_time(self):
+        return math.inf
+
+    def due(self, sim):
+        return sim.step_count % self.n == 0
+
+
+class WallTimeInterval:
+    """Fire every `seconds` of wall-clock time."""
+
+    def __init__(self, seconds):
+        if not seconds > 0:
+            raise InputError(f"wall-time interval = {seconds!r} s must be positive")
+        self.seconds = float(seconds)
+        self._last = _time.monotonic()
+
+    def next_time(self):
+        return math.inf
+
+    def due(self, sim):
+        now = _time.monotonic()
+        if now - self._last >= self.seconds:
+            self._last = now
+            return True
+        return False
