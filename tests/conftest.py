@@ -1,0 +1,110 @@
+"""Shared fixtures of the shoal test suite.
+
+Compiling one scheme specialisation (`SchemeSpec`) takes a few seconds, so
+the compiled CPU backends are cached for the whole test session: every test
+that asks for the same spec reuses the same `CPUBackend` (Numba compiles
+each kernel once per session; the on-disk cache makes later sessions fast).
+
+* `backend_for(options, dim)` returns the cached backend of a scheme.
+* `shared_backends` makes `shoal.model.Model` take its backend from that
+  cache (tests opt in with ``@pytest.mark.usefixtures("shared_backends")``).
+* `fluid_block(...)` builds a Model of a block of fluid particles only,
+  with no walls and no gravity unless asked.
+"""
+
+from __future__ import annotations
+
+import os
+
+# Numba's OpenMP threading layer (GNU libgomp) spin-waits at the end of every
+# parallel loop by default; on a machine busy with other work each of the
+# ~20 parallel loops of a time step then waits a scheduler time slice
+# (measured: 0.1 s per step instead of 0.5 ms). Tests check results, not
+# speed: let idle threads sleep. Must be set before libgomp is loaded (the
+# first parallel loop); an explicit setting in the environment wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from shoal.backends.cpu import CPUBackend  # noqa: E402
+from shoal.geometry import box_fill  # noqa: E402
+from shoal.model import Model  # noqa: E402
+from shoal.options import SPHOptions  # noqa: E402
+from shoal.physics.spec import FLUID, SchemeSpec  # noqa: E402
+
+_BACKENDS: dict[SchemeSpec, CPUBackend] = {}
+
+
+def cached_backend(spec):
+    """The session's CPUBackend compiled for `spec` (built on first use)."""
+    backend = _BACKENDS.get(spec)
+    if backend is None:
+        backend = _BACKENDS[spec] = CPUBackend(spec)
+    return backend
+
+
+@pytest.fixture(scope="session")
+def backend_for():
+    """``backend_for(options, dim) -> CPUBackend``, cached per SchemeSpec."""
+
+    def get(options, dim):
+        return cached_backend(SchemeSpec.from_options(options, dim))
+
+    return get
+
+
+@pytest.fixture
+def shared_backends(monkeypatch):
+    """Make every Model built in the test reuse the session's CPU backends."""
+    import shoal.model
+
+    original = shoal.model.get_backend
+
+    def get_backend(name, spec):
+        if name != "cpu":
+            return original(name, spec)
+        return cached_backend(spec)
+
+    monkeypatch.setattr(shoal.model, "get_backend", get_backend)
+
+
+@pytest.fixture
+def fluid_block(shared_backends):
+    """Factory of a Model holding a block of fluid particles (no walls).
+
+    ``fluid_block(dim, n_side, options, dp=0.01, jitter=0.0, seed=0,
+    velocity_scale=0.0, rho_noise=0.0, gravity=(0, 0, 0), u_max=1.0,
+    kinds=None)``: `n_side` particles per side (a tuple gives each axis),
+    positions jittered uniformly by +- jitter*dp, random normal velocities
+    of standard deviation `velocity_scale` [m/s] and densities
+    rho0 (1 + rho_noise N(0, 1)). The model is sorted before it is returned.
+    """
+
+    def make(dim, n_side, options=None, *, dp=0.01, jitter=0.0, seed=0, velocity_scale=0.0,
+             rho_noise=0.0, gravity=(0.0, 0.0, 0.0), u_max=1.0, kinds=None, surface_z=None):
+        options = options or SPHOptions(precision="float64")
+        sides = (n_side,) * 3 if np.isscalar(n_side) else tuple(n_side)
+        if dim == 2 and len(sides) == 2:
+            sides = (sides[0], 1, sides[1])
+        hi = (sides[0] * dp, sides[1] * dp if dim == 3 else 0.0, sides[2] * dp)
+        pos = box_fill((0.0, 0.0, 0.0), hi, dp, dim)
+        rng = np.random.default_rng(seed)
+        cols = [0, 1, 2] if dim == 3 else [0, 2]
+        if jitter:
+            pos[:, cols] += rng.uniform(-jitter * dp, jitter * dp, size=(len(pos), dim))
+        vel = np.zeros_like(pos)
+        if velocity_scale:
+            vel[:, cols] = rng.normal(scale=velocity_scale, size=(len(pos), dim))
+        kinds = np.full(len(pos), FLUID, np.int8) if kinds is None else np.asarray(kinds(pos), np.int8)
+        margin = 4 * dp
+        lo = (-margin, -margin if dim == 3 else 0.0, -margin)
+        dom_hi = (hi[0] + margin, hi[1] + margin if dim == 3 else 0.0, hi[2] + margin)
+        model = Model(pos, kinds, dp=dp, dim=dim, domain=(lo, dom_hi), options=options, gravity=gravity,
+                      u_max=u_max, velocities=vel, surface_z=surface_z)
+        if rho_noise:
+            model.rho[:] = model.rho * (1.0 + rho_noise * rng.standard_normal(len(pos)))
+        model.sort()
+        return model
+
+    return make

@@ -1,0 +1,251 @@
+"""Neighbour search: the cell grid and the gather find exactly the pairs
+within the support 2h that a brute-force O(N^2) search finds.
+
+The gather is driven by a tiny pair function that records each neighbour
+index, so the whole pair set (not just counts) is compared. Binning and
+`reorder` permute particles, so the comparison uses the permuted positions.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from shoal.errors import InputError
+from shoal.neighbours import CellGrid, brute_force_pairs
+from shoal.neighbours.gather import make_gather
+from shoal.options import SPHOptions
+from shoal.physics.spec import SchemeSpec, make_params
+
+MAX_NB = 512
+_DRIVERS = {}
+
+
+def _driver(dim, cps):
+    """(spec, run) where run(n, pos, cell, cell_start, gdims, P, nb, count)
+    writes every particle's neighbours into nb[i, :count[i]]."""
+    key = (dim, cps)
+    if key not in _DRIVERS:
+        spec = SchemeSpec.from_options(SPHOptions(precision="float64", cells_per_support=cps), dim)
+
+        @numba.njit
+        def record(acc, own, j, dx, dy, dz, r2, data, P):
+            nb = data[0]
+            if acc < nb.shape[1]:
+                nb[own, acc] = j
+            return acc + 1
+
+        gather = make_gather(numba.njit, spec, record)
+
+        @numba.njit
+        def run(n, pos, cell, cell_start, gdims, P, nb, count):
+            for i in range(n):
+                count[i] = gather(i, i, 0, pos, cell, cell_start, gdims, (nb,), P)
+
+        _DRIVERS[key] = (spec, run)
+    return _DRIVERS[key]
+
+
+def _params(spec, h):
+    opts = SPHOptions(precision="float64")
+    return make_params(spec, dp=h, h=h, rho0=1000.0, c0=10.0, gamma=7.0, gravity=(0.0, 0.0, 0.0),
+                       options=opts, mass_f=1.0, mass_b=1.0)
+
+
+def _bin(pos, lo, hi, h, cps):
+    """Bin and reorder a copy of `pos` (plus an id column); returns grid, pos, ids."""
+    pos = np.ascontiguousarray(pos, dtype=np.float64).copy()
+    n, dim = pos.shape
+    ids = np.arange(n, dtype=np.int32)
+    grid = CellGrid(lo, hi, 2.0 * h, cps, n)
+    scratch = {(pos.dtype.str, dim): np.empty((n, dim)), (ids.dtype.str, 0): np.empty(n, np.int32)}
+    n_active = grid.bin(pos, n)
+    grid.reorder([pos, ids], n, scratch)
+    return grid, pos, ids, n_active
+
+
+def _gather_pairs(pos, lo, hi, h, cps):
+    dim = pos.shape[1]
+    spec, run = _driver(dim, cps)
+    grid, spos, ids, n_active = _bin(pos, lo, hi, h, cps)
+    nb = np.full((max(n_active, 1), MAX_NB), -1, dtype=np.int64)
+    count = np.zeros(max(n_active, 1), dtype=np.int64)
+    run(n_active, spos, grid.cell, grid.cell_start, grid.gdims, _params(spec, h), nb, count)
+    assert count.max(initial=0) <= MAX_NB
+    pairs = {(i, int(nb[i, k])) for i in range(n_active) for k in range(count[i])}
+    assert len(pairs) == int(count[:n_active].sum()), "a neighbour was visited twice"
+    return grid, spos, ids, n_active, pairs
+
+
+def _check_against_brute_force(pos, lo, hi, h, cps, strict=False):
+    """Compare the gather's pairs with brute force on the binned positions.
+
+    Cell indices are computed as floor((x - lo) / cell) in floating point, so
+    a pair closer than 2h by an ulp or so can land n + 1 cells apart and be
+    skipped; W and grad W vanish to far below double precision there
+    (W ~ (2 - q)^3 at best), so outside `strict` mode a missing pair is
+    accepted only within 1e-12 relative of the support radius.
+    """
+    grid, spos, ids, n_active, pairs = _gather_pairs(pos, lo, hi, h, cps)
+    expected = brute_force_pairs(spos, 2.0 * h, n=n_active)
+    missing = expected - pairs
+    extra = pairs - expected
+    if not strict:
+        missing = {(i, j) for i, j in missing if np.linalg.norm(spos[i] - spos[j]) < 2.0 * h * (1.0 - 1e-12)}
+    assert not missing and not extra, (f"{len(missing)} missing, {len(extra)} extra pairs, e.g. "
+                                       f"{sorted(missing)[:3]} / {sorted(extra)[:3]}")
+    return grid, spos, ids, n_active, pairs
+
+
+def _inside(pos, grid):
+    """Particles the grid keeps: finite and inside [lo, lo + dims * cell)."""
+    with np.errstate(invalid="ignore"):
+        v = (pos - grid.lo) * (1.0 / grid.cell_size)
+        return np.all((v >= 0) & (v < grid.dims), axis=1)
+
+
+@pytest.mark.parametrize("cps", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
+def test_gather_equals_brute_force_random(dim, cps):
+    rng = np.random.default_rng(100 * dim + cps)
+    h = 0.0371  # no simple ratio with the box: cells straddle it
+    lo = np.array([-0.13, 0.02, 0.5])[:dim]
+    hi = lo + np.array([0.41, 0.23, 0.3])[:dim]
+    n = 600 if dim == 2 else 900
+    pos = lo + rng.random((n, dim)) * (hi - lo)
+    pos[:5] = pos[5:10]  # coincident particles are neighbours (r = 0 < 2h)
+    pos[10] = lo  # on the lower domain corner
+    _, _, _, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, cps, strict=True)
+    assert n_active == n
+    assert len(pairs) > 20 * n  # a meaningful number of neighbours
+
+
+@pytest.mark.parametrize("cps", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
+def test_gather_on_cell_edges(dim, cps):
+    """Lattice points on cell faces and at lo; pairs at exactly 2h excluded.
+
+    Every number here is a binary fraction, so distances of exactly 2h
+    (and exactly a cell size) occur and are computed exactly.
+    """
+    cs = 0.125
+    h = 0.5 * cps * cs  # cell = 2h / cps = 0.125 for every cps
+    lo = np.array([-0.5, -0.25, -0.375])[:dim]
+    step = cs / 2  # cell faces and cell centres
+    ncell = 6 if dim == 2 else 4
+    k = np.arange(2 * ncell)
+    grids = np.meshgrid(*([k] * dim), indexing="ij")
+    pos = lo + step * np.stack([g.ravel() for g in grids], axis=1)
+    hi = lo + ncell * cs
+    grid, spos, ids, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, cps, strict=True)
+    assert grid.cell_size == cs
+    assert n_active == len(pos)
+    # exact-support pairs exist in the lattice and were excluded by both searches
+    d = np.sqrt(((spos[:, None, :] - spos[None, :, :]) ** 2).sum(-1))
+    assert np.any(d == 2 * h)
+    assert not any(d[i, j] >= 2 * h for i, j in pairs)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_binning_sorts_by_cell_stably(dim):
+    rng = np.random.default_rng(7 + dim)
+    h = 0.05
+    lo = np.zeros(dim)
+    hi = np.full(dim, 0.8 if dim == 2 else 0.4)
+    pos = lo + rng.random((500, dim)) * (hi - lo)
+    grid, spos, ids, n_active = _bin(pos, lo, hi, h, 2)
+    assert sorted(ids.tolist()) == list(range(len(pos)))  # a permutation
+    np.testing.assert_array_equal(spos, pos[ids])  # every array follows the same permutation
+    idx = np.floor((pos - grid.lo) / grid.cell_size).astype(np.int64)
+    strides = np.cumprod(np.r_[1, grid.dims[:-1]])
+    cell = (idx * strides).sum(1)
+    np.testing.assert_array_equal(grid.cell[:n_active], cell[ids])
+    assert np.all(np.diff(grid.cell[:n_active]) >= 0)
+    # stable: ties (same cell) keep their original order
+    same = np.diff(grid.cell[:n_active]) == 0
+    assert np.all(np.diff(ids)[same] > 0)
+    # cell_start brackets each cell's particles
+    cs = grid.cell_start
+    assert cs[0] == 0 and cs[grid.ncell] == n_active and cs[grid.ncell + 1] == len(pos)
+    for c in np.unique(cell):
+        assert np.all(grid.cell[cs[c]:cs[c + 1]] == c)
+        assert cs[c + 1] - cs[c] == np.count_nonzero(cell == c)
+
+
+@pytest.mark.parametrize("cps", [1, 2])
+@pytest.mark.parametrize("dim", [2, 3])
+def test_outside_and_nan_particles_go_last(dim, cps):
+    rng = np.random.default_rng(11 * dim + cps)
+    h = 0.04
+    lo = np.array([0.0, -0.1, 0.2])[:dim]
+    hi = lo + 0.32  # a whole number of cells: the grid box is exactly [lo, hi)
+    n = 400
+    pos = lo + rng.random((n, dim)) * (hi - lo)
+    bad = {
+        0: lo - 1e-9,                      # just below lo
+        1: hi,                             # exactly at hi: outside (half-open box)
+        2: np.full(dim, np.nan),
+        3: np.r_[np.nan, lo[1:] + 0.01],   # only one NaN component
+        4: np.r_[lo[:-1] + 0.01, np.inf],
+        5: np.r_[lo[:-1] + 0.1, -np.inf],
+        6: lo + 5.0,
+    }
+    for i, p in bad.items():
+        pos[i] = p
+    pos[7] = lo  # on the lower corner: inside
+    pos[8] = np.r_[lo[:-1], hi[-1] - 1e-12]  # just inside the top
+    grid, spos, ids, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, cps)
+    np.testing.assert_allclose(grid.hi, hi, rtol=0, atol=1e-15)
+    assert n_active == n - len(bad) == np.count_nonzero(_inside(pos, grid))
+    assert set(ids[n_active:].tolist()) == set(bad)
+    assert {7, 8} <= set(ids[:n_active].tolist())
+    assert all(i < n_active and j < n_active for i, j in pairs)
+    assert np.all(np.isfinite(spos[:n_active]))
+
+
+def test_grid_rejects_bad_bounds():
+    with pytest.raises(InputError, match="must exceed"):
+        CellGrid([0.0, 0.0], [1.0, 0.0], 0.1, 2, 10)
+    with pytest.raises(InputError, match="2 or 3 numbers"):
+        CellGrid([0.0], [1.0], 0.1, 2, 10)
+
+
+def test_grid_cell_count():
+    g = CellGrid([0.0, 0.0, 0.0], [1.0, 0.5, 0.25], 0.1, 2, 1)
+    assert g.cell_size == pytest.approx(0.05)
+    assert tuple(g.dims) == (20, 10, 5) and g.ncell == 1000 == CellGrid.cells_for(
+        [0.0, 0.0, 0.0], [1.0, 0.5, 0.25], 0.1, 2)
+    g2 = CellGrid([0.0, 0.0], [1.0, 0.5], 0.3, 1, 1)
+    assert g2.gdims == (4, 1, 2)  # 2D grids are (nx, 1, nz); the box rounds up to whole cells
+
+
+@st.composite
+def _point_sets(draw):
+    dim = draw(st.sampled_from([2, 3]))
+    cps = draw(st.sampled_from([1, 2, 3]))
+    n = draw(st.integers(1, 60))
+    # a mix of lattice points (k/8 of a cell: faces, coincident points) and arbitrary ones
+    ints = draw(st.lists(st.lists(st.integers(0, 8 * 5), min_size=dim, max_size=dim), min_size=n, max_size=n))
+    floats = draw(st.lists(st.lists(st.floats(0.0, 5.0, allow_nan=False), min_size=dim, max_size=dim),
+                           min_size=n, max_size=n))
+    use_float = draw(st.lists(st.booleans(), min_size=n, max_size=n))
+    cell = 0.1
+    units = np.where(np.array(use_float)[:, None], np.array(floats), np.array(ints) / 8.0)
+    return dim, cps, units * cell, cell
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_point_sets())
+def test_gather_property(case):
+    dim, cps, pos, cell = case
+    h = 0.5 * cps * cell
+    lo = np.zeros(dim)
+    hi = np.full(dim, 4.5 * cell)  # some points (up to 5 cells) fall outside
+    grid, spos, ids, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, cps)
+    assert n_active == np.count_nonzero(_inside(pos, grid))
+    assert sorted(ids.tolist()) == list(range(len(pos)))
