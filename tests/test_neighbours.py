@@ -8,8 +8,6 @@ index, so the whole pair set (not just counts) is compared. Binning and
 
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 import pytest

@@ -12,6 +12,14 @@ The public API:
 
 __version__ = "0.1.0"
 
+import os as _os
+
+# GNU OpenMP (Numba's usual threading layer on Linux) spins 300k iterations
+# after each parallel loop; with ~20 parallel loops per step, a shoal run that
+# shares its cores with another process became ~100x slower (measured). A
+# short spin keeps idle-machine speed and removes that collapse.
+_os.environ.setdefault("GOMP_SPINCOUNT", "3000")
+
 from . import cases  # noqa: E402
 from .case import Case  # noqa: E402
 from .errors import InputError, InstabilityError, ShoalError  # noqa: E402

@@ -81,8 +81,10 @@ def _make_case(args):
 
 
 def cmd_run(args):
+    from .backends import check_backend
     from .runner import run_case
 
+    check_backend(args.backend)
     case = _make_case(args)
     out = args.out or f"runs/{case.name}"
     print(f"shoal: {case.name}: {case.n_particles} particles ({case.n_fluid} fluid), dp = {case.dp:g} m, "
@@ -117,7 +119,10 @@ def cmd_info(args):
 
 def main(argv=None):
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse: --help (0) or a one-line error (2)
+        return exc.code
     if args.command is None:
         parser.print_help()
         return 0

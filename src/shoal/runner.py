@@ -108,10 +108,10 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     -------
     RunResult
     """
+    model = build_model(case, backend)  # bad input fails here, before anything is written
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     log = _logger(out_dir)
-    model = build_model(case, backend)
     sim = Simulation(model, case.end_time)
     resolved = case.summary()
     resolved.update(

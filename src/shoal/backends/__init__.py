@@ -5,12 +5,17 @@ from .cpu import CPUBackend
 BACKENDS = ("cpu",)
 
 
-def get_backend(name, spec):
-    """Return the backend called `name` compiled for `spec`."""
+def check_backend(name):
+    """Raise InputError unless backend `name` can run here."""
     from ..errors import InputError
 
-    if name == "cpu":
-        return CPUBackend(spec)
     if name == "cuda":
         raise InputError("backend 'cuda' is not available in this version of shoal yet; allowed: 'cpu'")
-    raise InputError(f"unknown backend {name!r}; allowed: {', '.join(map(repr, BACKENDS))}")
+    if name not in BACKENDS:
+        raise InputError(f"unknown backend {name!r}; allowed: {', '.join(map(repr, BACKENDS))}")
+
+
+def get_backend(name, spec):
+    """Return the backend called `name` compiled for `spec`."""
+    check_backend(name)
+    return CPUBackend(spec)

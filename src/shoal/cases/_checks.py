@@ -1,10 +1,21 @@
 """Validation of built-in case parameters (one-line errors)."""
 
 import math
+import os
 
 from ..errors import InputError
 
-MAX_PARTICLES = 500_000_000
+BYTES_PER_PARTICLE = 600
+"""Peak bytes per particle while a case is generated and run (float64 generation
+arrays plus solver arrays of either precision), a deliberate over-estimate."""
+
+
+def physical_memory():
+    """Bytes of physical memory of this machine (0 if unknown)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 0
 
 
 def check_dp(dp, length_scale, what="the smallest fluid dimension"):
@@ -17,9 +28,13 @@ def check_dp(dp, length_scale, what="the smallest fluid dimension"):
 
 
 def check_count(n_estimate, dim):
-    if n_estimate > MAX_PARTICLES:
-        raise InputError(f"about {n_estimate:.3g} particles would be generated; at most {MAX_PARTICLES:.0e} "
-                         "fit in memory here: use a larger dp")
+    """Refuse a particle count whose arrays cannot fit in this machine's memory."""
+    mem = physical_memory()
+    if mem and n_estimate * BYTES_PER_PARTICLE > 0.8 * mem:
+        fit = int(0.8 * mem / BYTES_PER_PARTICLE)
+        raise InputError(f"about {n_estimate:.3g} particles would be generated, needing about "
+                         f"{n_estimate * BYTES_PER_PARTICLE / 2**30:.1f} GiB; this machine has "
+                         f"{mem / 2**30:.1f} GiB, enough for about {fit:.2g} particles: use a larger dp")
 
 
 def check_positive(name, value, unit):

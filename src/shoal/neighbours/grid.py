@@ -22,18 +22,19 @@ MAX_CELLS = 2**31 - 16
 
 
 @numba.njit(parallel=True, cache=True)
-def _cell_index(pos, n, lo, inv_cs, dims, ncell, out):
+def _cell_index(pos, n, lo, hi, inv_cs, dims, ncell, out):
     dim = pos.shape[1]
     for i in numba.prange(n):
         c = 0
         stride = 1
         inside = True
         for d in range(dim):
-            v = (pos[i, d] - lo[d]) * inv_cs
-            if not (v >= 0.0 and v < dims[d]):  # also catches NaN
+            x = pos[i, d]
+            v = (x - lo[d]) * inv_cs
+            if not (x >= lo[d] and x < hi[d]):  # also catches NaN
                 inside = False
                 break
-            c += int(v) * stride
+            c += min(int(v), dims[d] - 1) * stride
             stride *= dims[d]
         out[i] = c if inside else ncell
 
@@ -118,7 +119,8 @@ class CellGrid:
                 f"the neighbour grid would need {ncell:.3g} cells (domain {(hi - lo).tolist()} m, cell "
                 f"{self.cell_size:.3g} m); enlarge dp or shrink the domain (at most {MAX_CELLS:.3g} cells)")
         self.lo = lo
-        self.hi = lo + dims * self.cell_size
+        self.hi = hi  # the domain; the grid itself may reach up to one cell further
+        self.grid_hi = lo + dims * self.cell_size
         self.dims = dims
         self.ncell = ncell
         # (nx, ny, nz) as the gather expects; 2D grids are (nx, 1, nz)
@@ -147,7 +149,7 @@ class CellGrid:
         `reorder` on every particle array, which then leaves ``cell`` in
         sorted order. Returns the number of particles inside the domain.
         """
-        _cell_index(pos, n, self.lo, self._inv_cs, self._dims, self.ncell, self._unsorted)
+        _cell_index(pos, n, self.lo, self.hi, self._inv_cs, self._dims, self.ncell, self._unsorted)
         _counting_sort(self._unsorted, n, self.ncell, self.cell_start, self.perm)
         _sorted_cells(self._unsorted, self.perm, n, self.cell)
         self.n_active = int(self.cell_start[self.ncell])
