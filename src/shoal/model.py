@@ -164,10 +164,19 @@ class Model:
         arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, *self.extra_arrays]
         self.grid.reorder(arrays, n_before, self.scratch)
         if n < n_before:
+            gone_pos = self.pos[n:n_before]
+            bad = ~np.all(np.isfinite(gone_pos), axis=1) | ~np.all(np.isfinite(self.vel[n:n_before]), axis=1)
+            if np.any(bad):
+                k = n + int(np.argmax(bad))
+                raise InstabilityError(
+                    f"particle id {int(self.idp[k])} ({KIND_NAMES.get(int(self.kind[k]), 'particle')}) has a "
+                    f"non-finite position or velocity: the run blew up; likely causes: a time step too large "
+                    f"(lower cfl or raise coef_sound), particles penetrating a wall, or too coarse a resolution")
             self.n_escaped += n_before - n
             self.n = n
             if self.n_fluid == 0:
-                raise InstabilityError("every fluid particle has left the domain")
+                raise InstabilityError("every fluid particle has left the domain box "
+                                       f"{self.grid.lo.tolist()} - {self.grid.hi.tolist()} m")
         return n
 
     def compute_rates(self):

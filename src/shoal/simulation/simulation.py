@@ -38,7 +38,7 @@ class Simulation:
         Steps between NaN / density checks.
     """
 
-    def __init__(self, model, end_time, dt_floor_ratio=1e-3, check_every=10):
+    def __init__(self, model, end_time, dt_floor_ratio=1e-3, check_every=1):
         self.model = model
         self.end_time = float(end_time)
         self.integrator = make_integrator(model)
@@ -92,7 +92,12 @@ class Simulation:
     def step(self):
         """Advance one time step and apply the density filter when due."""
         m = self.model
-        dt = self.integrator.step(self._choose_dt)
+        try:
+            dt = self.integrator.step(self._choose_dt)
+        except InstabilityError as err:
+            if " step " in str(err):
+                raise
+            raise InstabilityError(f"unstable at step {self.step_count + 1}, t = {self.time:.6g} s: {err}") from None
         self.time += dt
         self.step_count += 1
         o = self.options
