@@ -17,7 +17,6 @@ import numpy as np
 
 from .backends import get_backend
 from .errors import InputError, InstabilityError
-from .neighbours.grid import CellGrid
 from .options import SPHOptions
 from .physics.eos import GAMMA
 from .physics.spec import FIXED, FLUID, MOVING, SchemeSpec, make_params, params_array
@@ -98,39 +97,41 @@ class Model:
         self.mass = self.rho0 * self.dp**dim
         self.params = make_params(self.spec, dp=self.dp, h=self.h, rho0=self.rho0, c0=self.c0, gamma=GAMMA,
                                   gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass)
-        self.P = params_array(self.spec, self.params)  # what kernels receive
+        self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
 
         cols = [0, 1, 2] if dim == 3 else [0, 2]
         lo = np.asarray(domain[0], dtype=np.float64)[cols]
         hi = np.asarray(domain[1], dtype=np.float64)[cols]
         n = len(positions)
         self.n_total = n
-        self.grid = CellGrid(lo, hi, 2.0 * self.h, options.cells_per_support, n)
+        self.backend = b = get_backend(backend, self.spec)
+        self.grid = b.make_grid(lo, hi, 2.0 * self.h, options.cells_per_support, n)
         F = self.dtype
-        self.pos = np.ascontiguousarray(positions[:, cols], dtype=F)
         vel = np.zeros((n, 3)) if velocities is None else np.asarray(velocities, dtype=np.float64)
-        self.vel = np.ascontiguousarray(vel[:, cols], dtype=F)
-        self.kind = kinds.copy()
-        self.idp = np.arange(n, dtype=np.int32)
         rho = np.full(n, self.rho0)
         if surface_z is not None and g > 0:
             depth = np.clip(float(surface_z) - positions[:, 2], 0.0, None)
             rho = self.rho0 * (1.0 + self.rho0 * g * depth / self.B) ** (1.0 / GAMMA)
-        self.rho = rho.astype(F)
+        # particle state (on the backend's device), in cell order after each sort
+        self.pos = b.asarray(np.ascontiguousarray(positions[:, cols], dtype=F))
+        self.vel = b.asarray(np.ascontiguousarray(vel[:, cols], dtype=F))
+        self.rho = b.asarray(rho.astype(F))
+        self.kind = b.asarray(kinds.copy())
+        self.idp = b.asarray(np.arange(n, dtype=np.int32))
+        self.P = b.asarray(self.P)
         # rates and work arrays
-        self.ace = np.zeros((n, dim), dtype=F)
-        self.drho = np.zeros(n, dtype=F)
-        self.vmax = np.zeros(n, dtype=F)
-        self.pr2 = np.zeros(n, dtype=F)
-        self.xsph = np.zeros((n, dim) if self.spec.xsph else (1, dim), dtype=F)
+        self.ace = b.zeros((n, dim), F)
+        self.drho = b.zeros(n, F)
+        self.vmax = b.zeros(n, F)
+        self.pr2 = b.zeros(n, F)
+        self.xsph = b.zeros((n, dim) if self.spec.xsph else (1, dim), F)
         self.scratch = {
-            (np.dtype(F).str, dim): np.empty((n, dim), dtype=F),
-            (np.dtype(F).str, 0): np.empty(n, dtype=F),
-            (np.dtype(np.int32).str, 0): np.empty(n, dtype=np.int32),
-            (np.dtype(np.int8).str, 0): np.empty(n, dtype=np.int8),
+            (np.dtype(F).str, dim): b.zeros((n, dim), F),
+            (np.dtype(F).str, 0): b.zeros(n, F),
+            (np.dtype(np.int32).str, 0): b.zeros(n, np.int32),
+            (np.dtype(np.int8).str, 0): b.zeros(n, np.int8),
         }
         self.extra_arrays = []  # integrator state arrays that follow the sort
-        self.backend = get_backend(backend, self.spec)
         self.n = n
         self.n_escaped = 0
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
@@ -139,17 +140,22 @@ class Model:
     @property
     def n_fluid(self):
         """Number of active fluid particles."""
-        return int(np.count_nonzero(self.kind[: self.n] == FLUID))
+        return int(np.count_nonzero(self.host(self.kind) == FLUID))
+
+    def host(self, array, start=0, stop=None):
+        """Rows start..stop (default: the active particles) of a particle array, as NumPy."""
+        return self.backend.to_host(array, start, self.n if stop is None else stop)
 
     def nbytes(self):
         """Bytes of particle, work and grid arrays held by the model."""
         arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.vmax,
                   self.pr2, self.xsph, *self.scratch.values(), *self.extra_arrays]
+        # (device arrays have .nbytes too)
         return sum(a.nbytes for a in arrays) + self.grid.nbytes
 
     def new_array(self, like):
         """Allocate an integrator state array that follows the particle sort."""
-        a = like.copy()
+        a = self.backend.copy(like)
         self.extra_arrays.append(a)
         return a
 
@@ -164,12 +170,15 @@ class Model:
         arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, *self.extra_arrays]
         self.grid.reorder(arrays, n_before, self.scratch)
         if n < n_before:
-            gone_pos = self.pos[n:n_before]
-            bad = ~np.all(np.isfinite(gone_pos), axis=1) | ~np.all(np.isfinite(self.vel[n:n_before]), axis=1)
+            gone_pos = self.host(self.pos, n, n_before)
+            gone_vel = self.host(self.vel, n, n_before)
+            bad = ~np.all(np.isfinite(gone_pos), axis=1) | ~np.all(np.isfinite(gone_vel), axis=1)
             if np.any(bad):
-                k = n + int(np.argmax(bad))
+                k = int(np.argmax(bad))
+                pid = int(self.host(self.idp, n, n_before)[k])
+                pkind = int(self.host(self.kind, n, n_before)[k])
                 raise InstabilityError(
-                    f"particle id {int(self.idp[k])} ({KIND_NAMES.get(int(self.kind[k]), 'particle')}) has a "
+                    f"particle id {pid} ({KIND_NAMES.get(pkind, 'particle')}) has a "
                     f"non-finite position or velocity: the run blew up; likely causes: a time step too large "
                     f"(lower cfl or raise coef_sound), particles penetrating a wall, or too coarse a resolution")
             self.n_escaped += n_before - n
@@ -212,7 +221,7 @@ class Model:
         kernel = b.shepard if kind == "shepard" else b.mls
         b.timed(kernel, n, (self.pos, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
                             self.grid.gdims_arr, P, out))
-        self.rho[:n] = out[:n]
+        b.copy_into(self.rho, out, n)
 
     def check(self, step, time):
         """Raise InstabilityError naming the first particle with NaN/inf state
@@ -222,11 +231,12 @@ class Model:
             return
         where = self.world_positions()[i]
         what = "non-finite position, velocity or density" if code == 1 else (
-            f"density {float(self.rho[i]):.6g} kg/m^3 outside the sane band "
+            f"density {float(self.host(self.rho, i, i + 1)[0]):.6g} kg/m^3 outside the sane band "
             f"[{self.rho_range[0]:.4g}, {self.rho_range[1]:.4g}]")
         raise InstabilityError(
-            f"unstable at step {step}, t = {time:.6g} s: {KIND_NAMES.get(int(self.kind[i]), 'particle')} "
-            f"particle id {int(self.idp[i])} at (x, y, z) = ({where[0]:.4g}, {where[1]:.4g}, {where[2]:.4g}) m "
+            f"unstable at step {step}, t = {time:.6g} s: "
+            f"{KIND_NAMES.get(int(self.host(self.kind, i, i + 1)[0]), 'particle')} "
+            f"particle id {int(self.host(self.idp, i, i + 1)[0])} at (x, y, z) = ({where[0]:.4g}, {where[1]:.4g}, {where[2]:.4g}) m "
             f"has {what}; likely causes: a time step too large (lower cfl or raise coef_sound), "
             f"particles penetrating a wall, or too coarse a resolution")
 
@@ -234,35 +244,37 @@ class Model:
     def world_positions(self, active_only=True):
         """(N, 3) float64 positions in world coordinates."""
         n = self.n if active_only else self.n_total
+        p = self.host(self.pos, 0, n)
         out = np.zeros((n, 3))
         if self.dim == 3:
-            out[:] = self.pos[:n]
+            out[:] = p
         else:
-            out[:, 0] = self.pos[:n, 0]
-            out[:, 2] = self.pos[:n, 1]
+            out[:, 0] = p[:, 0]
+            out[:, 2] = p[:, 1]
         return out
 
     def world_velocities(self):
         """(N, 3) float64 velocities of the active particles."""
+        v = self.host(self.vel)
         out = np.zeros((self.n, 3))
         if self.dim == 3:
-            out[:] = self.vel[: self.n]
+            out[:] = v
         else:
-            out[:, 0] = self.vel[: self.n, 0]
-            out[:, 2] = self.vel[: self.n, 1]
+            out[:, 0] = v[:, 0]
+            out[:, 2] = v[:, 1]
         return out
 
     def pressure(self):
         """Tait pressure [Pa] of the active particles (float64)."""
-        r = self.rho[: self.n].astype(np.float64) / self.rho0
+        r = self.host(self.rho).astype(np.float64) / self.rho0
         return self.B * (r**GAMMA - 1.0)
 
     def fields(self):
         """Point data of the active particles for snapshots."""
         return {
             "velocity": self.world_velocities(),
-            "density": self.rho[: self.n].astype(np.float64),
+            "density": self.host(self.rho).astype(np.float64),
             "pressure": self.pressure(),
-            "id": self.idp[: self.n].copy(),
-            "kind": self.kind[: self.n].astype(np.int32),
+            "id": self.host(self.idp).copy(),
+            "kind": self.host(self.kind).astype(np.int32),
         }

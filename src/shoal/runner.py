@@ -150,7 +150,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         from .output import plot_particles
 
         v = np.linalg.norm(model.world_velocities(), axis=1)
-        plot_particles(out_dir / f"{case.name}_final.png", model.world_positions(), v, kind=model.kind[: model.n],
+        plot_particles(out_dir / f"{case.name}_final.png", model.world_positions(), v, kind=model.host(model.kind),
                        title=f"{case.name}  t = {sim.time:.3f} s", value_label="|v| [m/s]", dim=case.dim)
     result = RunResult(out_dir, sim.step_count, sim.time, sim.wall_seconds, model.backend.compile_seconds,
                        model.n_total, model.n_escaped, writer.count, model, sim)

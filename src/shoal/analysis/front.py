@@ -12,6 +12,5 @@ def surge_front(model, x0=0.0):
     PySPH and DualSPHysics dam-break comparisons); Martin & Moyce (1952)
     recorded the leading edge of the surge along the bed.
     """
-    n = model.n
-    fluid = model.kind[:n] == FLUID
-    return float(np.max(model.pos[:n, 0][fluid])) - x0
+    fluid = model.host(model.kind) == FLUID
+    return float(np.max(model.host(model.pos)[:, 0][fluid])) - x0

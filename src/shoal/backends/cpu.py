@@ -13,6 +13,7 @@ import time
 import numba
 import numpy as np
 
+from ..neighbours.grid import CellGrid
 from ..physics import build_physics
 from ..physics.spec import FLUID
 from ..timestepping.updates import make_updates
@@ -107,3 +108,30 @@ class CPUBackend:
 
     dt_terms = staticmethod(dt_terms)
     find_bad = staticmethod(find_bad)
+
+    # -- arrays: the CPU works on NumPy arrays in place
+    @staticmethod
+    def asarray(a):
+        """The backend's copy of host array `a` (here: `a` itself)."""
+        return a
+
+    @staticmethod
+    def zeros(shape, dtype):
+        return np.zeros(shape, dtype=dtype)
+
+    @staticmethod
+    def copy(a):
+        return a.copy()
+
+    @staticmethod
+    def to_host(a, start, stop):
+        """Rows start..stop of `a` as a NumPy array (a view on the CPU)."""
+        return a[start:stop]
+
+    @staticmethod
+    def copy_into(dst, src, n):
+        dst[:n] = src[:n]
+
+    @staticmethod
+    def make_grid(lo, hi, support, cells_per_support, capacity):
+        return CellGrid(lo, hi, support, cells_per_support, capacity)
