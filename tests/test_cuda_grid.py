@@ -13,10 +13,6 @@ a few hundred particles and the whole child run takes well under a minute.
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,40 +20,12 @@ import pytest
 from shoal.errors import InputError
 from shoal.neighbours import CellGrid
 
-SIMULATOR = os.environ.get("NUMBA_ENABLE_CUDASIM") == "1"
-
-
-def _have_gpu():
-    if SIMULATOR:
-        return False
-    try:
-        from numba import cuda
-
-        return bool(cuda.is_available())
-    except Exception:  # no driver, no toolkit
-        return False
-
-
-HAVE_CUDA = SIMULATOR or _have_gpu()
-needs_cuda = pytest.mark.skipif(not HAVE_CUDA, reason="needs a GPU or NUMBA_ENABLE_CUDASIM=1")
+from cuda_support import HAVE_CUDA, needs_cuda, run_module_under_simulator  # noqa: E402,F401
 
 
 def test_simulator_run():
     """Run this module under the CUDA simulator in a child process."""
-    if HAVE_CUDA:
-        pytest.skip("CUDA (or the simulator) is available here: the tests run in this process")
-    import shoal
-
-    src = str(Path(shoal.__file__).resolve().parents[1])
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
-    env["PYTHONPATH"] = os.pathsep.join([src] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
-    here = Path(__file__).resolve()
-    proc = subprocess.run(
-        [sys.executable, "-m", "pytest", str(here), "-q", "-p", "no:cacheprovider", "-k", "not test_simulator_run"],
-        cwd=here.parents[1], env=env, capture_output=True, text=True, timeout=600)
-    out = proc.stdout + proc.stderr
-    assert proc.returncode == 0, f"simulator run failed:\n{out}"
-    assert " passed" in out and "skipped" not in out and "failed" not in out, out
+    run_module_under_simulator(__file__, "test_simulator_run")
 
 
 # ---------------------------------------------------------------------------
@@ -131,6 +99,7 @@ def test_bin_and_reorder_equal_cpu(dim, cps):
     assert cgrid.bin(arrays[0], n) == n_active
     assert 0 < n_active < n - 3  # some particles left the domain
     _assert_same_sort(cgrid, grid, n)
+    assert (cgrid.cell, cgrid.cell_start, cgrid.perm) == (cgrid.cell_d, cgrid.cell_start_d, cgrid.perm_d)
     cgrid.reorder(arrays, n, cgrid.make_scratch(arrays))
     for a_d, a in zip(arrays, expected):
         np.testing.assert_array_equal(a_d.copy_to_host(), a)
@@ -139,7 +108,7 @@ def test_bin_and_reorder_equal_cpu(dim, cps):
 @needs_cuda
 def test_small_blocks_rebin_float32():
     """Several radix blocks and a two-level prefix sum (32-thread blocks,
-    3 radix passes over 4100 cells), float32 positions, then a second
+    3 radix passes over 2210 cells), float32 positions, then a second
     binning of the reordered particles (buffers reused)."""
     from numba import cuda
 

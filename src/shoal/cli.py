@@ -49,7 +49,7 @@ def build_parser():
                    help="time between snapshots [s]")
     r.add_argument("--out", default=None, help="output directory (default: runs/CASE)")
     r.add_argument("--precision", choices=["float32", "float64"], default=None)
-    r.add_argument("--backend", default="cpu", help="compute backend: cpu")
+    r.add_argument("--backend", default="cpu", help="compute backend: cpu (default) or cuda")
     r.add_argument("--integrator", choices=["verlet", "symplectic", "predictor_corrector"], default=None)
     r.add_argument("--kernel", choices=["wendland", "cubic"], default=None)
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -112,8 +112,24 @@ def cmd_info(args):
     from . import __version__
 
     print(f"shoal {__version__}")
-    print(f"cpu: available, {numba.get_num_threads()} threads (numba {numba.__version__})")
-    print("cuda: not available in this version (planned: --backend cuda)")
+    from .backends.cuda import cuda_status
+
+    print(f"cpu: available, {numba.get_num_threads()} threads (numba {numba.__version__}, "
+          f"threading layer chosen at the first parallel loop)")
+    ok, why = cuda_status()
+    if ok:
+        print(f"cuda: available: {why}")
+        try:
+            from numba import cuda
+
+            for d in cuda.gpus:
+                with d:
+                    free, total = cuda.current_context().get_memory_info()
+                print(f"  device {d.id}: {d.name}, {total / 2**30:.1f} GiB ({free / 2**30:.1f} GiB free)")
+        except Exception:  # the simulator has no memory figures
+            pass
+    else:
+        print(f"cuda: not available: {why}")
     return 0
 
 

@@ -2,7 +2,7 @@
 
 from .cpu import CPUBackend
 
-BACKENDS = ("cpu",)
+BACKENDS = ("cpu", "cuda")
 
 
 def check_backend(name):
@@ -10,7 +10,12 @@ def check_backend(name):
     from ..errors import InputError
 
     if name == "cuda":
-        raise InputError("backend 'cuda' is not available in this version of shoal yet; allowed: 'cpu'")
+        from .cuda import cuda_status
+
+        ok, why = cuda_status()
+        if not ok:
+            raise InputError(f"backend 'cuda' is not available here: {why}; use --backend cpu")
+        return
     if name not in BACKENDS:
         raise InputError(f"unknown backend {name!r}; allowed: {', '.join(map(repr, BACKENDS))}")
 
@@ -18,4 +23,8 @@ def check_backend(name):
 def get_backend(name, spec):
     """Return the backend called `name` compiled for `spec`."""
     check_backend(name)
+    if name == "cuda":
+        from .cuda import CUDABackend
+
+        return CUDABackend(spec)
     return CPUBackend(spec)

@@ -11,7 +11,7 @@ grid's, element for element, because both sorts are stable (ties keep the
 particle order), so a CPU and a CUDA run visit particles in the same order.
 
 Method: a device LSD radix sort
-------------------------------
+-------------------------------
 A counting sort whose scatter uses atomics to claim slots is not stable
 (the order in which threads win the atomic is arbitrary), and ranking each
 particle within its cell by counting the earlier particles of that cell
@@ -21,7 +21,7 @@ least-significant-digit radix sort, which is stable by construction and
 has no data-dependent worst case:
 
 1. ``cell`` kernel: one thread per particle computes its cell (exactly the
-   CPU arithmetic: ``min(int((x - lo) / cell_size), dims - 1)`` in float64).
+   CPU arithmetic: ``min(int((x - lo) * (1 / cell_size)), dims - 1)`` in float64).
 2. For each 4-bit digit of the key (``ceil(bit_length(ncell) / 4)``
    passes: 3 for 4095 cells, 6 for 10^7 cells), with blocks of ``T``
    threads (``block_size``, one key per thread):
@@ -48,16 +48,21 @@ has no data-dependent worst case:
    cells need no special case; ``cell_start[ncell]`` is the number of
    active particles, ``cell_start[ncell + 1] = n``).
 
-Work: O(N * passes) for the sort, each pass reading 8 bytes and writing
-8 bytes per particle (about 16 bytes * 6 passes * 10^7 particles = 1 GB of
-traffic at 10^7 cells), plus O(N / 16) for the scans and
-O(ncell * log2 N) for ``cell_start``. Launches per `bin`: 2 + 3 * passes
-+ 2 per scan level beyond the first. A tuned library sort (CUB onesweep,
-8-bit digits, several keys per thread) is about 2-3 times faster; this one
-is self-contained, deterministic and runs under the CUDA simulator.
+Work: O(N * passes) for the sort, each pass reading the keys twice and
+values once and writing keys and values (about 20 bytes per particle and
+pass: 1.2 GB of traffic for 10^7 particles over 10^7 cells, 6 passes),
+plus O(N / 16) for the scans of the histograms and O(ncell log2 N) for
+``cell_start``; there is no data-dependent worst case (all particles in
+one cell costs the same). Kernel launches per `bin`: 2 + passes * (3 + 2
+per extra scan level); one scan level covers 4 T^2 / 16 = 16384
+particles at T = 256, two cover 1.7e7. A tuned library sort (CUB's
+onesweep: 8-bit digits, several keys per thread, decoupled look-back) is
+faster; this one is self-contained, deterministic and runs under the CUDA
+simulator, which has no warp intrinsics (shuffles, ballots): every
+intra-block exchange here goes through shared memory and ``syncthreads``.
 
 Memory on the device: 16 bytes per particle (two key and two value
-buffers) + 1 byte per particle (radix histograms) + 4 bytes per cell
+buffers) + 64 / T bytes per particle (radix histograms) + 4 bytes per cell
 (``cell_start``), all allocated once in ``__init__``.
 
 Nothing is copied back to the host by `bin` unless asked: ``n_active``
@@ -346,6 +351,9 @@ class CudaCellGrid:
         `gdims` on the device.
     ncell : int
         Number of cells; the extra cell ``ncell`` holds removed particles.
+    cell, cell_start, perm
+        The same device arrays under `CellGrid`'s names (a drop-in for code
+        that takes either grid).
     dim, n, cell_size, lo, hi, grid_hi, dims
         The geometry, as in `CellGrid`.
 
@@ -406,6 +414,22 @@ class CudaCellGrid:
         self._k["cell_starts"][_blocks(self.ncell + 2, block_size), block_size, stream](
             self.cell_d, 0, self.ncell + 2, self.cell_start_d)
 
+    # the CellGrid names, so that code written for either grid takes both
+    @property
+    def cell(self):
+        """`cell_d` (the name `CellGrid` uses)."""
+        return self.cell_d
+
+    @property
+    def cell_start(self):
+        """`cell_start_d` (the name `CellGrid` uses)."""
+        return self.cell_start_d
+
+    @property
+    def perm(self):
+        """`perm_d` (the name `CellGrid` uses)."""
+        return self.perm_d
+
     @property
     def nbytes(self):
         """Bytes of device memory held by the grid's arrays."""
@@ -418,7 +442,7 @@ class CudaCellGrid:
         """Number of particles inside the domain at the last `bin` (copies
         one int32 from the device, which waits for the stream)."""
         self.n_active_d.copy_to_host(self._host1, stream=self.stream)
-        if self.stream:
+        if not isinstance(self.stream, int):
             self.stream.synchronize()
         return int(self._host1[0])
 

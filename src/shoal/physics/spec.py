@@ -111,9 +111,12 @@ def make_unpack(jit):
     @jit
     def unpack(Parr):
         r = Parr[0]
-        return Params(r.h, r.inv_h, r.supp2, r.eta2, r.aw, r.agrad, r.inv_wdp, r.rho0, r.inv_rho0, r.B,
-                      r.c0, r.rho0_c02, r.alpha, r.nu4, r.ddt_coef, r.mass_f, r.mass_b, r.gx, r.gy, r.gz,
-                      r.xsph_eps, r.dim)
+        # r["name"]: works on Numba records (CPU and CUDA) and on NumPy records
+        # (the CUDA simulator runs kernels as Python)
+        return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
+                      r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
+                      r["ddt_coef"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
+                      r["dim"])
 
     return unpack
 

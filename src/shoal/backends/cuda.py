@@ -1,0 +1,205 @@
+"""CUDA backend: the same per-particle physics, one GPU thread per particle.
+
+The functions of `shoal.physics` and `shoal.timestepping.updates` are
+compiled a second time with ``numba.cuda.jit(device=True)`` from the same
+source (no second copy of the physics); this module only decides how loops
+run: a kernel launch over the particles (`make_for_each`), device
+reductions for the time step and the stability check, and device-resident
+arrays for the whole run. Host copies happen only for outputs, probes and
+the one scalar per step (dt) that the host needs.
+
+Requires the optional dependency ``numba-cuda`` (``pip install shoal[cuda]``)
+and an NVIDIA GPU with its driver. Without a GPU the kernels can run
+through Numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``), slowly: that is
+how the parity tests run in CI.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from ..errors import InputError
+from ..physics import build_physics
+from ..physics.spec import FLUID
+from ..timestepping.updates import make_updates
+
+try:  # a module-level name: the CUDA simulator swaps the global `cuda` inside kernels
+    from numba import cuda
+except Exception:  # pragma: no cover - numba-cuda missing
+    cuda = None
+
+THREADS = 128
+
+
+def cuda_status():
+    """(available, message): whether the CUDA backend can run here, and why not."""
+    if cuda is None:
+        return False, "numba-cuda is not installed; pip install 'shoal[cuda]'"
+    if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1":
+        return True, "CUDA simulator (NUMBA_ENABLE_CUDASIM=1): kernels run as Python, for testing only"
+    try:
+        if not cuda.is_available():
+            return False, "no CUDA driver or GPU found (numba.cuda.is_available() is False)"
+        devs = [f"{d.name.decode() if isinstance(d.name, bytes) else d.name}" for d in cuda.gpus]
+        return True, f"{len(devs)} device(s): {', '.join(devs)}"
+    except Exception as exc:  # pragma: no cover
+        return False, f"CUDA initialisation failed: {exc}"
+
+
+def cuda_device_jit(fn):
+    """Decorator for shared per-particle functions on CUDA (device functions)."""
+    return cuda.jit(device=True)(fn)
+
+
+def make_for_each(fn):
+    """Return ``run(n, args)``: one thread per particle calls ``fn(i, *args)``."""
+    @cuda.jit
+    def kernel(n, args):
+        i = cuda.grid(1)
+        if i < n:
+            fn(i, *args)
+
+    def run(n, args):
+        if n > 0:
+            kernel[(n + THREADS - 1) // THREADS, THREADS](n, args)
+
+    run.kernel = kernel
+    return run
+
+
+def _reductions():
+    @cuda.jit
+    def accel2(n, ace, kind, out):
+        i = cuda.grid(1)
+        if i < n:
+            a2 = ace[i, 0] * ace[i, 0]
+            for d in range(1, ace.shape[1]):
+                a2 += ace[i, d] * ace[i, d]
+            if kind[i] != FLUID:
+                a2 = a2 - a2  # zero in the working precision
+            out[i] = a2
+
+    @cuda.jit
+    def first_bad(n, pos, vel, rho, kind, rho_lo, rho_hi, out):
+        # out[0]: smallest bad index (n if none); out[1]: its code
+        i = cuda.grid(1)
+        if i < n:
+            r = rho[i]
+            code = 0
+            if not math.isfinite(r):
+                code = 1
+            for d in range(pos.shape[1]):
+                if not (math.isfinite(pos[i, d]) and math.isfinite(vel[i, d])):
+                    code = 1
+            if code == 0 and kind[i] == FLUID and (r < rho_lo or r > rho_hi):
+                code = 2
+            if code:
+                cuda.atomic.min(out, 0, i)
+
+    @cuda.reduce
+    def max_reduce(a, b):
+        return max(a, b)
+
+    return accel2, first_bad, max_reduce
+
+
+class CUDABackend:
+    """Compiled CUDA kernels for one scheme specialisation, on device arrays."""
+
+    name = "cuda"
+
+    def __init__(self, spec):
+        ok, why = cuda_status()
+        if not ok:
+            raise InputError(f"backend 'cuda' is not available here: {why}; use --backend cpu")
+        self._cuda = cuda
+        self.spec = spec
+        phys = build_physics(cuda_device_jit, spec, target="cuda")
+        upd = make_updates(phys.named_jit, spec, phys.unpack)
+        self.physics = phys
+        self.pr2 = make_for_each(phys.particle_pr2)
+        self.rates = make_for_each(phys.particle_rates)
+        self.shepard = make_for_each(phys.shepard)
+        self.mls = make_for_each(phys.mls)
+        for name, fn in upd.items():
+            setattr(self, name, make_for_each(fn))
+        self._accel2, self._first_bad, self._max = _reductions()
+        self._a2 = None
+        self._bad = cuda.device_array(1, dtype=np.int64)
+        self.compile_seconds = 0.0
+        self._seen = set()
+
+    @staticmethod
+    def threads():
+        return THREADS
+
+    def timed(self, kernel, n, args):
+        import time
+
+        first = id(kernel) not in self._seen
+        t0 = time.perf_counter()
+        kernel(n, args)
+        if first:
+            self._cuda.synchronize()
+            self.compile_seconds += time.perf_counter() - t0
+            self._seen.add(id(kernel))
+
+    # -- reductions
+    def dt_terms(self, n, ace, vmax, kind):
+        """(max |a|^2 over fluid particles, max viscous term) on the device."""
+        if n == 0:
+            return 0.0, 0.0
+        if self._a2 is None or self._a2.shape[0] < len(kind):
+            self._a2 = self._cuda.device_array(len(kind), dtype=ace.dtype)
+        self._accel2[(n + THREADS - 1) // THREADS, THREADS](n, ace, kind, self._a2)
+        return float(self._max(self._a2[:n])), float(self._max(vmax[:n]))
+
+    def find_bad(self, n, pos, vel, rho, kind, rho_lo, rho_hi):
+        """(index, code) of the first unstable particle, or (-1, 0)."""
+        if n == 0:
+            return -1, 0
+        self._bad.copy_to_device(np.array([n], dtype=np.int64))
+        F = self.spec.float_type
+        self._first_bad[(n + THREADS - 1) // THREADS, THREADS](n, pos, vel, rho, kind, F(rho_lo), F(rho_hi),
+                                                               self._bad)
+        i = int(self._bad.copy_to_host()[0])
+        if i >= n:
+            return -1, 0
+        r = float(rho[i: i + 1].copy_to_host()[0])
+        p = pos[i: i + 1].copy_to_host()
+        v = vel[i: i + 1].copy_to_host()
+        code = 1 if not (np.isfinite(r) and np.all(np.isfinite(p)) and np.all(np.isfinite(v))) else 2
+        return i, code
+
+    # -- arrays live on the device
+    def asarray(self, a):
+        return self._cuda.to_device(np.ascontiguousarray(a))
+
+    def zeros(self, shape, dtype):
+        return self._cuda.to_device(np.zeros(shape, dtype=dtype))
+
+    def copy(self, a):
+        out = self._cuda.device_array(a.shape, dtype=a.dtype)
+        out.copy_to_device(a)
+        return out
+
+    @staticmethod
+    def to_host(a, start, stop):
+        return a[start:stop].copy_to_host()
+
+    @staticmethod
+    def copy_into(dst, src, n):
+        if n > 0:
+            dst[:n].copy_to_device(src[:n])
+
+    @staticmethod
+    def make_grid(lo, hi, support, cells_per_support, capacity):
+        from ..neighbours.cuda_grid import CudaCellGrid
+
+        # the simulator runs a Python thread per CUDA thread and is slow at barriers:
+        # small blocks there (same kernels, same results), 256 on a GPU
+        block = 32 if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1" else 256
+        return CudaCellGrid(lo, hi, support, cells_per_support, capacity, block_size=block)
