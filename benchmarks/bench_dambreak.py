@@ -32,6 +32,7 @@ def main(argv=None):
     p.add_argument("--integrator", default="verlet", choices=["verlet", "symplectic", "predictor_corrector"])
     p.add_argument("--cells-per-support", type=int, default=2)
     p.add_argument("--threads", type=int, default=None, help="Numba threads (default: all)")
+    p.add_argument("--backend", default="cpu", choices=["cpu", "cuda"])
     args = p.parse_args(argv)
 
     import dataclasses
@@ -49,19 +50,24 @@ def main(argv=None):
     case.options = dataclasses.replace(case.options, integrator=args.integrator,
                                        cells_per_support=args.cells_per_support)
     model = Model(case.positions, case.kinds, dp=case.dp, dim=case.dim, domain=case.domain,
-                  options=case.options, fluid_height=case.fluid_height, surface_z=case.surface_z)
+                  options=case.options, fluid_height=case.fluid_height, surface_z=case.surface_z,
+                  backend=args.backend)
     sim = Simulation(model, end_time=1e9)
     t0 = time.perf_counter()
     sim.run(max_steps=args.warmup)
     t1 = time.perf_counter()
     warm = t1 - t0
     sim.run(max_steps=args.steps)
+    if args.backend == "cuda":
+        from numba import cuda
+
+        cuda.synchronize()
     wall = time.perf_counter() - t1
     n = model.n_total
     evals = args.steps * sim.integrator.rate_evaluations_per_step
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     out = {
-        "case": case.name, "dp": args.dp, "precision": args.precision, "integrator": args.integrator,
+        "case": case.name, "backend": args.backend, "dp": args.dp, "precision": args.precision, "integrator": args.integrator,
         "cells_per_support": args.cells_per_support, "threads": numba.get_num_threads(),
         "particles": n, "fluid_particles": case.n_fluid, "steps": args.steps,
         "force_evaluations": evals, "wall_seconds": round(wall, 4),
@@ -82,4 +88,10 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    from shoal.errors import InputError
+
+    try:
+        main()
+    except InputError as err:
+        sys.stderr.write(f"bench_dambreak: error: {err}\n")
+        sys.exit(2)

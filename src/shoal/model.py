@@ -150,8 +150,7 @@ class Model:
         """Bytes of particle, work and grid arrays held by the model."""
         arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.vmax,
                   self.pr2, self.xsph, *self.scratch.values(), *self.extra_arrays]
-        # (device arrays have .nbytes too)
-        return sum(a.nbytes for a in arrays) + self.grid.nbytes
+        return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
 
     def new_array(self, like):
         """Allocate an integrator state array that follows the particle sort."""
