@@ -14,9 +14,8 @@ import numba
 import numpy as np
 
 from ..neighbours.grid import CellGrid
-from ..physics import build_physics
 from ..physics.spec import FLUID
-from ..timestepping.updates import make_updates
+from .loops import attach_loops
 
 # Fast-math flags that keep NaN/inf semantics (NaN checks must still work)
 FASTMATH = {"nsz": True, "arcp": True, "contract": True, "afn": True, "reassoc": True}
@@ -82,15 +81,7 @@ class CPUBackend:
 
     def __init__(self, spec):
         self.spec = spec
-        phys = build_physics(cpu_jit, spec, target="cpu")
-        upd = make_updates(phys.named_jit, spec, phys.unpack)
-        self.physics = phys
-        self.pr2 = make_for_each(phys.particle_pr2)
-        self.rates = make_for_each(phys.particle_rates)
-        self.shepard = make_for_each(phys.shepard)
-        self.mls = make_for_each(phys.mls)
-        for name, fn in upd.items():
-            setattr(self, name, make_for_each(fn))
+        attach_loops(self, cpu_jit, make_for_each, spec, "cpu")
         self.compile_seconds = 0.0
 
     @staticmethod

@@ -22,9 +22,8 @@ import os
 import numpy as np
 
 from ..errors import InputError
-from ..physics import build_physics
 from ..physics.spec import FLUID
-from ..timestepping.updates import make_updates
+from .loops import attach_loops
 
 try:  # a module-level name: the CUDA simulator swaps the global `cuda` inside kernels
     from numba import cuda
@@ -117,15 +116,7 @@ class CUDABackend:
             raise InputError(f"backend 'cuda' is not available here: {why}; use --backend cpu")
         self._cuda = cuda
         self.spec = spec
-        phys = build_physics(cuda_device_jit, spec, target="cuda")
-        upd = make_updates(phys.named_jit, spec, phys.unpack)
-        self.physics = phys
-        self.pr2 = make_for_each(phys.particle_pr2)
-        self.rates = make_for_each(phys.particle_rates)
-        self.shepard = make_for_each(phys.shepard)
-        self.mls = make_for_each(phys.mls)
-        for name, fn in upd.items():
-            setattr(self, name, make_for_each(fn))
+        attach_loops(self, cuda_device_jit, make_for_each, spec, "cuda")
         self._accel2, self._first_bad, self._max = _reductions()
         self._a2 = None
         self._bad = cuda.device_array(1, dtype=np.int64)

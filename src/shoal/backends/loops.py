@@ -1,0 +1,32 @@
+"""The loop kernels every backend offers, built from the shared physics.
+
+`attach_loops` compiles the per-particle functions of `shoal.physics` and
+`shoal.timestepping.updates` with a backend's decorator and wraps each in
+that backend's particle loop, so both backends expose the same kernels
+(``pr2``, ``rates``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
+``half_step``, ``symplectic_correct``, ``pc_correct``) from one source.
+"""
+
+from ..physics import build_physics
+from ..timestepping.updates import make_updates
+
+PHYSICS_LOOPS = {"pr2": "particle_pr2", "rates": "particle_rates", "shepard": "shepard", "mls": "mls"}
+
+
+def attach_loops(backend, jit, for_each, spec, target):
+    """Set the loop kernels of `spec` as attributes of `backend`.
+
+    Parameters
+    ----------
+    backend : object receiving the kernels and ``physics`` (the compiled functions).
+    jit : decorator compiling a per-particle function for the target.
+    for_each : ``fn -> run(n, args)`` wrapping a per-particle function in a loop.
+    spec : SchemeSpec.
+    target : str, names the specialisation in Numba's cache ("cpu", "cuda").
+    """
+    phys = build_physics(jit, spec, target=target)
+    backend.physics = phys
+    for name, fn in PHYSICS_LOOPS.items():
+        setattr(backend, name, for_each(getattr(phys, fn)))
+    for name, fn in make_updates(phys.named_jit, spec, phys.unpack).items():
+        setattr(backend, name, for_each(fn))
