@@ -113,7 +113,8 @@ class Model:
             depth = np.clip(float(surface_z) - positions[:, 2], 0.0, None)
             rho = self.rho0 * (1.0 + self.rho0 * g * depth / self.B) ** (1.0 / GAMMA)
         # particle state (on the backend's device), in cell order after each sort
-        self.pos = b.asarray(np.ascontiguousarray(positions[:, cols], dtype=F))
+        # positions in float64 in every precision (see neighbours.gather)
+        self.pos = b.asarray(np.ascontiguousarray(positions[:, cols], dtype=np.float64))
         self.vel = b.asarray(np.ascontiguousarray(vel[:, cols], dtype=F))
         self.rho = b.asarray(rho.astype(F))
         self.kind = b.asarray(kinds.copy())
@@ -126,6 +127,7 @@ class Model:
         self.pr2 = b.zeros(n, F)
         self.xsph = b.zeros((n, dim) if self.spec.xsph else (1, dim), F)
         self.scratch = {
+            (np.dtype(np.float64).str, dim): b.zeros((n, dim), np.float64),
             (np.dtype(F).str, dim): b.zeros((n, dim), F),
             (np.dtype(F).str, 0): b.zeros(n, F),
             (np.dtype(np.int32).str, 0): b.zeros(n, np.int32),

@@ -3,7 +3,12 @@
 Cells have size 2h / n (n = `cells_per_support`) and particles are stored
 in cell order with x the fastest cell index, so the cells (ix-n .. ix+n, iy,
 iz) form one contiguous range of particles: a particle visits (2n+1)^(dim-1)
-such x-ranges. Every pair within the support 2h is passed to ``pair``,
+such x-ranges. Positions are float64 in every run (as DualSPHysics keeps
+them in double): the difference r_i - r_j is taken in float64 and only then
+rounded to the working precision, so slow flows in float32 runs still move
+by their true displacement (a float32 coordinate of 0.5 m has a 6e-8 m ulp,
+a few steps' displacement of still water). Every pair within the support
+2h is passed to ``pair``,
 which folds it into an accumulator tuple (written once, used by the rates,
 the filters and the probes, on every backend).
 """
@@ -46,9 +51,9 @@ def make_gather(jit, spec, pair):
                 for y in range(max(iy - n, 0), min(iy + n, ny - 1) + 1):
                     row = nx * (y + ny * z)
                     for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
-                        dx = xi - pos[j, 0]
-                        dy = yi - pos[j, 1]
-                        dz = zi - pos[j, 2]
+                        dx = F(xi - pos[j, 0])
+                        dy = F(yi - pos[j, 1])
+                        dz = F(zi - pos[j, 2])
                         r2 = dx * dx + dy * dy + dz * dz
                         if r2 < supp2 and j != i:
                             acc = pair(acc, own, j, dx, dy, dz, r2, data, P)
@@ -67,8 +72,8 @@ def make_gather(jit, spec, pair):
             for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
                 row = nx * z
                 for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
-                    dx = xi - pos[j, 0]
-                    dz = zi - pos[j, 1]
+                    dx = F(xi - pos[j, 0])
+                    dz = F(zi - pos[j, 1])
                     r2 = dx * dx + dz * dz
                     if r2 < supp2 and j != i:
                         acc = pair(acc, own, j, dx, zero, dz, r2, data, P)

@@ -1,5 +1,8 @@
 """Per-particle update formulas of the time integrators (all backends).
 
+Positions are float64 arrays in every precision: the displacement is
+computed in the working precision and added in float64.
+
 Fluid particles move; fixed boundary particles only update their density
 (dynamic boundary condition, Crespo et al. 2007), which is kept >= rho0 so
 that walls never attract fluid (as DualSPHysics does). With XSPH the
