@@ -36,6 +36,14 @@ def test_cli_run_writes_snapshots_log_png_and_resolved(tmp_path, capsys):
     assert res["bytes_per_particle"] > 0 and res["speed_of_sound"] > 10 * (9.81 * 0.5) ** 0.5
     assert "done:" in (out / "run.log").read_text()
     assert (out / "still-water-2d_final.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # running again into the same directory must not overwrite it silently
+    before = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    rc = main(["run", "still-water-2d", "--dp", "0.05", "--end-time", "0.1", "--out", str(out), "--no-progress"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "--overwrite" in err
+    assert {p.name: p.stat().st_mtime_ns for p in out.iterdir()} == before
+    assert main(["run", "still-water-2d", "--dp", "0.05", "--end-time", "0.05", "--out", str(out),
+                 "--no-progress", "--overwrite", "--no-plot"]) == 0
 
 
 def test_unstable_run_stops_with_location_and_keeps_output(tmp_path):

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import inspect
 import sys
+from pathlib import Path
 
 from .errors import InputError, InstabilityError
 
@@ -52,6 +53,7 @@ def build_parser():
     r.add_argument("--backend", default="cpu", help="compute backend: cpu (default) or cuda")
     r.add_argument("--integrator", choices=["verlet", "symplectic", "predictor_corrector"], default=None)
     r.add_argument("--kernel", choices=["wendland", "cubic"], default=None)
+    r.add_argument("--overwrite", action="store_true", help="replace a run already in the output directory")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--no-plot", action="store_true", help="no PNG of the final state")
     sub.add_parser("cases", help="list the built-in cases")
@@ -87,10 +89,13 @@ def cmd_run(args):
     check_backend(args.backend)
     case = _make_case(args)
     out = args.out or f"runs/{case.name}"
+    if not args.overwrite and (Path(out) / "resolved.json").exists():
+        raise InputError(f"{out} already holds a run (resolved.json); choose another --out directory "
+                         "or pass --overwrite")
     print(f"shoal: {case.name}: {case.n_particles} particles ({case.n_fluid} fluid), dp = {case.dp:g} m, "
           f"t_end = {case.end_time:g} s, {case.options.precision}, backend {args.backend}")
     res = run_case(case, out, backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
-                   plot=not args.no_plot)
+                   plot=not args.no_plot, overwrite=args.overwrite)
     print(f"shoal: {res.steps} steps to t = {res.time:.4g} s in {res.wall_seconds:.1f} s "
           f"({res.compile_seconds:.1f} s compiling), {res.particle_steps_per_second:.3g} particle-steps/s; "
           f"{res.snapshots} snapshots in {res.out_dir}/ ({case.name}.pvd); escaped particles: {res.escaped}")

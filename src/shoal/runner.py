@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .errors import InstabilityError
+from .errors import InputError, InstabilityError
 from .model import Model
 from .simulation import Simulation, TimeInterval
 from .simulation.writers import SnapshotWriter
@@ -95,21 +95,26 @@ class _Progress:
             self.bar.stop()
 
 
-def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=None):
+def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False):
     """Run `case`, writing everything under `out_dir`.
 
     Writes ``<name>.pvd`` and ``<name>_NNNN.vtu`` snapshots every
     ``case.output_interval`` s, ``run.log``, ``resolved.json`` (all
     parameters, defaults filled in) and ``<name>_final.png``. A run that goes
     unstable writes ``<name>_unstable.vtu`` of the bad state, keeps what it
-    wrote, and raises `InstabilityError`.
+    wrote, and raises `InstabilityError`. An `out_dir` that already holds a
+    run (a ``resolved.json``) is refused unless `overwrite` is true, so no
+    earlier result is lost by accident.
 
     Returns
     -------
     RunResult
     """
-    model = build_model(case, backend)  # bad input fails here, before anything is written
     out_dir = Path(out_dir)
+    if not overwrite and (out_dir / "resolved.json").exists():
+        raise InputError(f"{out_dir} already holds a run (resolved.json); choose another --out directory "
+                         "or pass --overwrite")
+    model = build_model(case, backend)  # bad input fails here, before anything is written
     out_dir.mkdir(parents=True, exist_ok=True)
     log = _logger(out_dir)
     sim = Simulation(model, case.end_time)
