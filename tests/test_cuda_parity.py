@@ -71,8 +71,8 @@ def test_fifty_step_dam_break_matches_cpu():
     assert runs[0].time == pytest.approx(runs[1].time, rel=1e-5)
     dpos = np.max(np.abs(_by_id(cpu, cpu.pos) - _by_id(gpu, gpu.pos)))
     drho = np.max(np.abs(_by_id(cpu, cpu.rho) - _by_id(gpu, gpu.rho))) / 1000.0
-    moved = np.max(np.abs(_by_id(cpu, cpu.pos) - cpu.host(cpu.pos)[np.argsort(cpu.host(cpu.idp))]))
     print(f"50 steps, t = {runs[0].time:.4f} s: max |dx| {dpos:.2e} m, max |drho|/rho0 {drho:.2e}")
-    assert moved == 0.0  # (sanity of the id mapping)
+    # the particles did move (a comparison of two frozen states would prove nothing)
+    assert np.max(np.abs(_by_id(cpu, cpu.vel))) > 0.01
     assert dpos < 1e-5
     assert drho < 1e-3
