@@ -35,7 +35,6 @@ def main(argv=None):
     p.add_argument("--backend", default="cpu", choices=["cpu", "cuda"])
     args = p.parse_args(argv)
 
-    import dataclasses
 
     import numba
 
@@ -43,15 +42,12 @@ def main(argv=None):
         numba.set_num_threads(args.threads)
     t_import = time.perf_counter()
     from shoal.cases import dam_break_dualsphysics
-    from shoal.model import Model
+    from shoal.runner import build_model
     from shoal.simulation import Simulation
 
     case = dam_break_dualsphysics(dp=args.dp, precision=args.precision)
-    case.options = dataclasses.replace(case.options, integrator=args.integrator,
-                                       cells_per_support=args.cells_per_support)
-    model = Model(case.positions, case.kinds, dp=case.dp, dim=case.dim, domain=case.domain,
-                  options=case.options, fluid_height=case.fluid_height, surface_z=case.surface_z,
-                  backend=args.backend)
+    case = case.with_options(integrator=args.integrator, cells_per_support=args.cells_per_support)
+    model = build_model(case, backend=args.backend)
     sim = Simulation(model, end_time=1e9)
     t0 = time.perf_counter()
     sim.run(max_steps=args.warmup)

@@ -265,7 +265,7 @@ def test_closed_tank_keeps_every_particle():
     kinds = case.kinds[ids]
     np.testing.assert_array_equal(model.kind[: model.n][np.argsort(model.idp[: model.n])], case.kinds)
     # total fluid mass is unchanged and the water stays in the tank
-    assert model.mass * model.n_fluid == pytest.approx(case.rho0 * case.dp**2 * case.n_fluid, rel=1e-15)
+    assert model.mass * model.n_fluid == pytest.approx(case.fluid.rho0 * case.dp**2 * case.n_fluid, rel=1e-15)
     fp = pos[kinds == FLUID]
     L, depth = case.parameters["length"], case.parameters["depth"]
     assert fp[:, 0].min() > 0.0 and fp[:, 0].max() < L
@@ -273,4 +273,4 @@ def test_closed_tank_keeps_every_particle():
     # walls do not move
     wp = pos[kinds != FLUID]
     np.testing.assert_array_equal(wp, case.positions[ids[kinds != FLUID]][:, [0, 2]])
-    assert np.all(np.isfinite(rho)) and np.all(np.abs(rho / case.rho0 - 1) < 0.02)
+    assert np.all(np.isfinite(rho)) and np.all(np.abs(rho / case.fluid.rho0 - 1) < 0.02)

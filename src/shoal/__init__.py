@@ -2,7 +2,10 @@
 
 The public API:
 
-* `Case` and the built-in cases in `shoal.cases`;
+* `Case` (with `Domain`, `Fluid`, `Solid`, `FluidRegion`, `SymmetryPlane`,
+  `Output`), the shapes of `shoal.geometry`, the motions of `shoal.motions`,
+  the built-in cases in `shoal.cases`, and TOML case files (`load_case`,
+  `write_case`);
 * `SPHOptions` (kernel, viscosity, density diffusion, filters, integrator);
 * `Model` (particles + scheme + backend) and `Simulation` (time loop with
   scheduled callbacks: `TimeInterval`, `IterationInterval`, `WallTimeInterval`);
@@ -20,14 +23,16 @@ import os as _os
 # short spin keeps idle-machine speed and removes that collapse.
 _os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
-from . import cases  # noqa: E402
-from .case import Case  # noqa: E402
+from . import cases, geometry, motions  # noqa: E402
+from .case import Case, Domain, Fluid, FluidRegion, Output, Solid, SymmetryPlane  # noqa: E402
+from .casefile import load_case, write_case  # noqa: E402
 from .errors import InputError, InstabilityError, ShoalError  # noqa: E402
 from .model import Model  # noqa: E402
 from .options import SPHOptions  # noqa: E402
 from .runner import RunResult, run_case  # noqa: E402
 from .simulation import IterationInterval, Simulation, TimeInterval, WallTimeInterval  # noqa: E402
 
-__all__ = ["Case", "SPHOptions", "Model", "Simulation", "TimeInterval", "IterationInterval",
+__all__ = ["Case", "Domain", "Fluid", "FluidRegion", "Output", "Solid", "SymmetryPlane", "load_case", "write_case",
+           "geometry", "motions", "SPHOptions", "Model", "Simulation", "TimeInterval", "IterationInterval",
            "WallTimeInterval", "run_case", "RunResult", "cases", "InputError", "InstabilityError",
            "ShoalError", "__version__"]

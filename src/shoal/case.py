@@ -1,87 +1,317 @@
-"""A Case: everything needed to set up a simulation, as plain data.
+"""A Case: everything that defines a simulation, as plain data.
 
-Built-in cases (`shoal.cases`) are functions returning a `Case`. A Case
-holds the generated particles, the domain, the fluid constants, the scheme
-options and the run controls (end time, output interval).
+A `Case` holds the domain, the fluid constants, the SPH options, the solids
+(walls, bed, obstacles: shapes plus a boundary method), the fluid regions,
+the motions and the run controls. Its particles are generated from the
+geometry on demand (:meth:`Case.particles`). The Python API and TOML case
+files (:mod:`shoal.casefile`) build the same objects: every TOML table maps
+one-to-one onto a constructor here or in :mod:`shoal.geometry.shapes`, and
+every value is validated (unknown keys are errors)::
+
+    import shoal
+    from shoal.geometry import Box, Tank
+
+    case = shoal.Case(
+        name="my-tank", dim=2, dp=0.01, end_time=2.0,
+        fluid=shoal.Fluid(depth=0.5, surface_level=0.5),
+        solids=[shoal.Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(1, 0, 0.8)))],
+        fluids=[shoal.FluidRegion(shape=Box(lo=(0, 0, 0), hi=(1, 0, 0.5)))],
+    )
+
+Built-in cases (:mod:`shoal.cases`) are functions returning a Case.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from typing import Annotated, Any, Literal
 
 import numpy as np
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
 
+from .errors import InputError
+from .geometry.generate import FluidInput, Particles, SolidInput, generate
+from .geometry.shapes import AnyShape, Real, Spec, Vec3
+from .motions import AnyMotion
 from .options import SPHOptions
 
+PositiveReal = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+Options = Annotated[SPHOptions, BeforeValidator(SPHOptions.from_table)]
 
-@dataclass
-class Case:
-    """A simulation set-up.
+
+class Domain(Spec):
+    """The computational box [lo, hi] [m]: particles leaving it are removed
+    from the computation (and counted). y is ignored in 2D."""
+
+    lo: Vec3
+    hi: Vec3
+
+    @model_validator(mode="after")
+    def _order(self):
+        for a, (l, h) in zip("xyz", zip(self.lo, self.hi)):
+            if not h > l and a != "y":
+                raise ValueError(f"hi.{a} = {h} must be above lo.{a} = {l}")
+        return self
+
+
+class Fluid(Spec):
+    """The fluid's constants.
+
+    Parameters
+    ----------
+    rho0 : float
+        Reference density [kg/m^3].
+    gravity : 3 floats
+        Gravity [m/s^2] (x, y, z); z is up.
+    depth : float, optional
+        Reference depth H [m]: the speed of sound is c0 = coef_sound *
+        sqrt(|g| H) (the still-water depth for waves and bores, the column
+        height for a dam break).
+    u_max : float, optional
+        Largest expected flow speed [m/s]; when given, c0 = coef_sound * u_max
+        instead (e.g. sqrt(g H) + U for an inflow at speed U).
+    surface_level : float, optional
+        Still free-surface level [m]: fluid starts with the hydrostatic
+        density rho0 (1 + rho0 |g| (surface_level - z) / B)^(1/7).
+    """
+
+    rho0: PositiveReal = 1000.0
+    gravity: Vec3 = (0.0, 0.0, -9.81)
+    depth: PositiveReal | None = None
+    u_max: PositiveReal | None = None
+    surface_level: Real | None = None
+
+
+class Solid(Spec):
+    """A solid body: a shape whose surface layers become boundary particles.
+
+    Parameters
+    ----------
+    shape : Shape
+        Its region (see :mod:`shoal.geometry.shapes`).
+    name : str
+        A name for logs, plots and motions.
+    boundary : {"dynamic", "repulsive"}
+        Dynamic boundary particles (Crespo et al. 2007; several layers obeying
+        the continuity equation, fixed in place) or the single-layer repulsive
+        particles of Monaghan & Kajtar (2009) at spacing dp/2.
+    layers : int, optional
+        Layers of dynamic particles; default: as many as the kernel support
+        2h reaches (every wall particle a fluid particle can see).
+    motion : str, optional
+        Name of a motion in the case's `motions` that moves this body.
+    """
+
+    shape: AnyShape
+    name: str = ""
+    boundary: Literal["dynamic", "repulsive"] = "dynamic"
+    layers: Annotated[int, Field(ge=1, strict=True)] | None = None
+    motion: str | None = None
+
+
+class FluidRegion(Spec):
+    """Fluid filling a shape (where no solid is), with an initial velocity [m/s]."""
+
+    shape: AnyShape
+    velocity: Vec3 = (0.0, 0.0, 0.0)
+
+
+class SymmetryPlane(Spec):
+    """A symmetry plane ("domain separation" of the tidal-bore paper, section
+    2.4): the flow is mirrored across the plane through `point` with unit
+    `normal` (pointing into the fluid), so half a symmetric flume stands for
+    the whole one.
+
+    The case geometry records it (the half-width flume is generated without
+    a wall there); the mirror-particle boundary itself is not in the solver
+    yet, so a case with a symmetry plane can be checked and plotted but not
+    run.
+    """
+
+    point: Vec3
+    normal: Vec3
+
+
+class Output(Spec):
+    """What a run writes: particle snapshots (VTU + PVD) every `interval` s."""
+
+    interval: PositiveReal = 0.05
+
+
+class Case(BaseModel):
+    """A simulation set-up (see the module docstring for an example).
 
     Parameters
     ----------
     name : str
-        Case name (used for output file names).
+        Case name (output file names).
     dim : {2, 3}
+        2D runs use the x-z plane.
     dp : float
         Particle spacing [m].
-    positions : (N, 3) array
-        Particle positions [m] (world coordinates).
-    kinds : (N,) int array
-        0 fluid, 1 fixed boundary, 2 moving boundary.
-    domain : tuple of two 3-sequences
-        Computational box (lo, hi) [m]; particles leaving it are removed.
-    options : SPHOptions
-    rho0 : float
-        Reference density [kg/m^3].
-    gravity : 3-sequence
-        Gravity [m/s^2].
-    fluid_height : float
-        Reference depth H [m] for c0 = coef_sound sqrt(g H).
-    surface_z : float or None
-        Initial free-surface level for the hydrostatic initial density.
     end_time : float
-        Simulated time to run [s].
-    output_interval : float
-        Time between particle snapshots [s].
+        Simulated time [s].
+    fluid : Fluid
+    options : SPHOptions
+    solids : list of Solid
+    fluids : list of FluidRegion
+    motions : list of motions (see :mod:`shoal.motions`)
+    symmetry_planes : list of SymmetryPlane
+    domain : Domain, optional
+        Default: the particles' bounding box grown by the kernel support 2h
+        on every side and by the fluid's height above.
+    lattice_origin : 3 floats
+        Particles sit at lattice_origin + (i + 1/2) dp.
+    output : Output
     description : str
         What the case is and what it is compared with.
     parameters : dict
-        The parameters the case function was called with (for the record).
+        The parameters a built-in case function was called with (a record).
     """
 
-    name: str
-    dim: int
-    dp: float
-    positions: np.ndarray
-    kinds: np.ndarray
-    domain: tuple
-    options: SPHOptions = field(default_factory=SPHOptions)
-    rho0: float = 1000.0
-    gravity: tuple = (0.0, 0.0, -9.81)
-    fluid_height: float | None = None
-    surface_z: float | None = None
-    end_time: float = 1.0
-    output_interval: float = 0.1
+    model_config = ConfigDict(extra="forbid", validate_assignment=True, arbitrary_types_allowed=False)
+
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    dim: Literal[2, 3]
+    dp: PositiveReal
+    end_time: PositiveReal = 1.0
     description: str = ""
-    parameters: dict = field(default_factory=dict)
+    fluid: Fluid = Fluid()
+    options: Options = SPHOptions()
+    solids: list[Solid] = []
+    fluids: Annotated[list[FluidRegion], Field(min_length=1)]
+    motions: list[AnyMotion] = []
+    symmetry_planes: list[SymmetryPlane] = []
+    domain: Domain | None = None
+    lattice_origin: Vec3 = (0.0, 0.0, 0.0)
+    output: Output = Output()
+    parameters: dict[str, Any] = {}
+
+    _particles: Particles | None = PrivateAttr(default=None)
+    _key: Any = PrivateAttr(default=None)
+
+    @model_validator(mode="after")
+    def _links(self):
+        names = [m.name for m in self.motions]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ValueError(f"motion names must be unique; repeated: {', '.join(sorted(dup))}")
+        for i, s in enumerate(self.solids):
+            if s.motion is not None and s.motion not in names:
+                allowed = ", ".join(names) if names else "none defined"
+                raise ValueError(f"solids[{i}].motion = {s.motion!r} names no motion (motions: {allowed})")
+        if self.fluid.depth is None and self.fluid.u_max is None:
+            raise ValueError("fluid needs a depth (m) or a u_max (m/s) to set the speed of sound")
+        return self
+
+    # ------------------------------------------------------------ derived
+    @property
+    def smoothing_length(self):
+        """h = coef_h sqrt(dim) dp [m]."""
+        return self.options.coef_h * math.sqrt(self.dim) * self.dp
+
+    def _generation_box(self):
+        h2 = 2.0 * self.smoothing_length
+        layers = max([math.ceil(h2 / self.dp)] + [s.layers or 0 for s in self.solids])
+        pad = (1 + layers) * self.dp
+        if self.domain is not None:
+            lo, hi = np.array(self.domain.lo, float), np.array(self.domain.hi, float)
+            axes = (0, 2) if self.dim == 2 else (0, 1, 2)
+            for i, s in enumerate(self.solids):
+                if s.shape.type not in ("tank", "box", "prism", "cylinder", "mesh"):
+                    continue
+                t = (s.layers or layers) * self.dp if s.shape.type == "tank" else 0.0
+                slo, shi = s.shape.bounds(self.dim, t)
+                for a in axes:
+                    if np.isfinite(slo[a]) and slo[a] < lo[a] - 0.5 * self.dp or \
+                            np.isfinite(shi[a]) and shi[a] > hi[a] + 0.5 * self.dp:
+                        raise InputError(
+                            f"solids[{i}] ({s.name or s.shape.type}) reaches {'xyz'[a]} = "
+                            f"[{slo[a]:.4g}, {shi[a]:.4g}] m (walls included), outside the domain "
+                            f"[{lo[a]:.4g}, {hi[a]:.4g}] m: enlarge the domain or leave it out (automatic)")
+            return lo, hi
+        los, his = [], []
+        for what, items in (("solids", self.solids), ("fluids", self.fluids)):
+            for i, item in enumerate(items):
+                lo, hi = item.shape.bounds(self.dim, pad)
+                los.append(lo)
+                his.append(hi)
+        los, his = np.array(los), np.array(his)
+        with np.errstate(invalid="ignore"):
+            lo = np.min(np.where(np.isfinite(los), los, np.inf), axis=0)
+            hi = np.max(np.where(np.isfinite(his), his, -np.inf), axis=0)
+        axes = (0, 2) if self.dim == 2 else (0, 1, 2)
+        for a in axes:
+            if not (np.isfinite(lo[a]) and np.isfinite(hi[a])):
+                raise InputError(f"the case's shapes do not bound the {'xyz'[a]} axis (a plane, slope or "
+                                 "bathymetry reaches to infinity): give a [domain] with lo and hi")
+        if self.dim == 2:
+            lo[1] = hi[1] = 0.0
+        return lo, hi
+
+    def particles(self):
+        """The generated particles (cached until the case changes)."""
+        key = self.model_dump_json(exclude={"end_time", "output", "description", "parameters"})
+        if self._particles is not None and self._key == key:
+            return self._particles
+        lo, hi = self._generation_box()
+        moving = {s.name for s in self.solids if s.motion is not None}
+        solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}")
+                  for i, s in enumerate(self.solids)]
+        del moving
+        fluids = [FluidInput(f.shape, f.velocity) for f in self.fluids]
+        support = 2.0 * self.smoothing_length / self.dp
+        p = generate(self.dim, self.dp, (lo, hi), solids, fluids, support, self.lattice_origin)
+        if p.n_fluid == 0:
+            raise InputError("no fluid particle was generated: the fluid regions lie inside solids, outside "
+                             "the domain, or are thinner than dp")
+        if self.dim == 2:
+            p.positions[:, 1] = 0.0
+        self._particles, self._key = p, key
+        return p
+
+    def resolved_domain(self):
+        """(lo, hi) of the computational box [m] (3 floats each)."""
+        if self.domain is not None:
+            return np.array(self.domain.lo, float), np.array(self.domain.hi, float)
+        p = self.particles()
+        m = 2.0 * self.smoothing_length
+        lo = p.positions.min(axis=0) - m
+        hi = p.positions.max(axis=0) + m
+        fl = p.positions[p.kinds == 0]
+        hi[2] += max(float(np.ptp(fl[:, 2])) if len(fl) else 0.0, m)
+        if self.dim == 2:
+            lo[1] = hi[1] = 0.0
+        return lo, hi
+
+    @property
+    def positions(self):
+        return self.particles().positions
+
+    @property
+    def kinds(self):
+        return self.particles().kinds
 
     @property
     def n_particles(self):
-        return len(self.positions)
+        return len(self.particles())
 
     @property
     def n_fluid(self):
-        return int(np.count_nonzero(np.asarray(self.kinds) == 0))
+        return self.particles().n_fluid
 
-    def summary(self):
-        """A dict describing the case (for the resolved-parameters file)."""
-        return {
-            "name": self.name, "dim": self.dim, "dp": self.dp,
-            "particles": self.n_particles, "fluid_particles": self.n_fluid,
-            "domain": [list(map(float, self.domain[0])), list(map(float, self.domain[1]))],
-            "rho0": self.rho0, "gravity": list(map(float, self.gravity)),
-            "fluid_height": self.fluid_height, "surface_z": self.surface_z,
-            "end_time": self.end_time, "output_interval": self.output_interval,
-            "parameters": self.parameters, "options": self.options.to_dict(),
-        }
+    def with_options(self, **changes):
+        """A copy with some SPH options changed (validated)."""
+        from dataclasses import replace
+
+        return self.model_copy(update={"options": replace(self.options, **changes)})
+
+    def resolved(self):
+        """The case as a plain dict with every default filled in (what
+        ``resolved.toml`` holds; ``Case.model_validate`` of it rebuilds the case)."""
+        for s in self.solids:
+            if getattr(s.shape, "function", None) is not None:
+                raise InputError(f"solid {s.name!r}: a bathymetry given as a Python function cannot be written "
+                                 "to a case file; sample it on a grid (Bathymetry(grid=...))")
+        d = self.model_dump(mode="json", exclude_none=True)
+        return d

@@ -1,7 +1,10 @@
 """The ``shoal`` command line.
 
-    shoal run [CASE] [--dp M] [--end-time S] [--output-interval S] [--out DIR]
-              [--precision float32|float64] [--backend cpu] [--integrator NAME]
+    shoal run [CASE | FILE.toml] [--dp M] [--end-time S] [--output-interval S] [--out DIR]
+              [--precision float32|float64] [--backend cpu|cuda] [--integrator NAME] [--param KEY=VALUE]
+    shoal check CASE | FILE.toml     validate; print particle counts, memory and the time step
+    shoal new NAME [-o FILE.toml]    write a commented case file of a built-in case to start from
+    shoal plot-case CASE | FILE.toml [-o FILE.png]
     shoal cases
     shoal info
 
@@ -42,43 +45,100 @@ def _positive_float(name):
 def build_parser():
     p = _Parser(prog="shoal", description="Weakly-compressible SPH for free-surface coastal and hydraulic flows.")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
-    r = sub.add_parser("run", help="run a built-in case (default: the 2D dam-break demo)")
-    r.add_argument("case", nargs="?", default=DEFAULT_CASE, help="built-in case name (see `shoal cases`)")
-    r.add_argument("--dp", type=_positive_float("--dp"), help="particle spacing [m]")
-    r.add_argument("--end-time", type=_positive_float("--end-time"), help="simulated time [s]")
-    r.add_argument("--output-interval", type=_positive_float("--output-interval"),
-                   help="time between snapshots [s]")
+    r = sub.add_parser("run", help="run a built-in case or a case file (default: the 2D dam-break demo)")
+    r.add_argument("case", nargs="?", default=DEFAULT_CASE,
+                   help="built-in case name (see `shoal cases`) or a TOML case file")
+    _case_args(r)
     r.add_argument("--out", default=None, help="output directory (default: runs/CASE)")
-    r.add_argument("--precision", choices=["float32", "float64"], default=None)
     r.add_argument("--backend", default="cpu", help="compute backend: cpu (default) or cuda")
-    r.add_argument("--integrator", choices=["verlet", "symplectic", "predictor_corrector"], default=None)
-    r.add_argument("--kernel", choices=["wendland", "cubic"], default=None)
     r.add_argument("--overwrite", action="store_true", help="replace a run already in the output directory")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--no-plot", action="store_true", help="no PNG of the final state")
+    c = sub.add_parser("check", help="validate a case; print particle counts, memory estimate and time step")
+    c.add_argument("case", help="built-in case name or a TOML case file")
+    _case_args(c)
+    n = sub.add_parser("new", help="write a commented TOML case file of a built-in case to start from")
+    n.add_argument("name", help="built-in case name (see `shoal cases`)")
+    n.add_argument("-o", "--output", default=None, help="file to write (default: NAME.toml)")
+    n.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="a parameter of the built-in case (repeatable), e.g. --param inflow_speed=0.7")
+    n.add_argument("--dp", type=_positive_float("--dp"), help="particle spacing [m]")
+    n.add_argument("--force", action="store_true", help="replace an existing file")
+    pc = sub.add_parser("plot-case", help="write a PNG of a case's particles (side and plan views)")
+    pc.add_argument("case", help="built-in case name or a TOML case file")
+    pc.add_argument("-o", "--output", default=None, help="PNG to write (default: CASE_case.png)")
+    _case_args(pc)
     sub.add_parser("cases", help="list the built-in cases")
     sub.add_parser("info", help="show the backends available here")
     return p
 
 
-def _make_case(args):
-    from dataclasses import replace
+def _case_args(r):
+    r.add_argument("--dp", type=_positive_float("--dp"), help="particle spacing [m]")
+    r.add_argument("--end-time", type=_positive_float("--end-time"), help="simulated time [s]")
+    r.add_argument("--output-interval", type=_positive_float("--output-interval"),
+                   help="time between snapshots [s]")
+    r.add_argument("--precision", choices=["float32", "float64"], default=None)
+    r.add_argument("--integrator", choices=["verlet", "symplectic", "predictor_corrector"], default=None)
+    r.add_argument("--kernel", choices=["wendland", "cubic"], default=None)
+    r.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="a parameter of a built-in case (repeatable), e.g. --param inflow_speed=0.7 "
+                        "--param half=true (see `shoal cases`)")
 
+
+def _parse_params(items):
+    """--param KEY=VALUE items -> dict, values parsed as TOML (numbers, booleans, strings)."""
+    import tomllib
+
+    out = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or not key.isidentifier():
+            raise InputError(f"--param {item!r} must look like KEY=VALUE, e.g. --param inflow_speed=0.7")
+        try:
+            out[key] = tomllib.loads(f"v = {text.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            out[key] = text.strip()  # a bare word: a string
+    return out
+
+
+def _is_file(name):
+    return name.endswith(".toml") or "/" in name or Path(name).is_file()
+
+
+def _make_case(args):
     from .cases import CASES, get_case
 
-    if args.case not in CASES:
-        raise InputError(f"unknown case {args.case!r}; built-in cases: {', '.join(CASES)}")
-    kwargs = {}
-    if args.dp is not None:
-        kwargs["dp"] = args.dp
-    if args.output_interval is not None:
-        kwargs["output_interval"] = args.output_interval
-    if args.end_time is not None:
-        kwargs["end_time"] = args.end_time
-    case = get_case(args.case, **kwargs)
-    changes = {k: getattr(args, k) for k in ("precision", "integrator", "kernel") if getattr(args, k) is not None}
+    params = _parse_params(getattr(args, "param", []))
+    if _is_file(args.case):
+        from .casefile import load_case
+
+        if params:
+            raise InputError("--param sets parameters of built-in cases; edit the case file instead")
+        over = {}
+        if args.dp is not None:
+            over["dp"] = args.dp
+        if args.end_time is not None:
+            over["end_time"] = args.end_time
+        case = load_case(args.case, overrides=over)
+        if args.output_interval is not None:
+            case = case.model_copy(update={"output": case.output.model_copy(update={"interval": args.output_interval})})
+    else:
+        if args.case not in CASES:
+            raise InputError(f"unknown case {args.case!r}; built-in cases: {', '.join(CASES)} "
+                             "(or give a path to a .toml case file)")
+        kwargs = dict(params)
+        if args.dp is not None:
+            kwargs["dp"] = args.dp
+        if args.output_interval is not None:
+            kwargs["output_interval"] = args.output_interval
+        if args.end_time is not None:
+            kwargs["end_time"] = args.end_time
+        case = get_case(args.case, **kwargs)
+    changes = {k: getattr(args, k) for k in ("precision", "integrator", "kernel") if getattr(args, k, None) is not None}
     if changes:
-        case.options = replace(case.options, **changes)
+        case = case.with_options(**changes)
     return case
 
 
@@ -99,6 +159,46 @@ def cmd_run(args):
     print(f"shoal: {res.steps} steps to t = {res.time:.4g} s in {res.wall_seconds:.1f} s "
           f"({res.compile_seconds:.1f} s compiling), {res.particle_steps_per_second:.3g} particle-steps/s; "
           f"{res.snapshots} snapshots in {res.out_dir}/ ({case.name}.pvd); escaped particles: {res.escaped}")
+    return 0
+
+
+def cmd_check(args):
+    from .check import check_case
+
+    case = _make_case(args)
+    for line in check_case(case):
+        print(line)
+    return 0
+
+
+def cmd_new(args):
+    from .casefile import write_case
+    from .cases import CASES, get_case
+
+    if args.name not in CASES:
+        raise InputError(f"unknown case {args.name!r}; built-in cases: {', '.join(CASES)}")
+    kwargs = _parse_params(args.param)
+    if args.dp is not None:
+        kwargs["dp"] = args.dp
+    case = get_case(args.name, **kwargs)
+    out = Path(args.output or f"{args.name}.toml")
+    if out.exists() and not args.force:
+        raise InputError(f"{out} exists; choose another file with -o or pass --force")
+    write_case(case, out)
+    print(f"shoal: wrote {out} (the {args.name} case); edit it, then: shoal check {out} && shoal run {out}")
+    return 0
+
+
+def cmd_plot_case(args):
+    from .output.plot_case import plot_case
+
+    case = _make_case(args)
+    p = case.particles()
+    out = Path(args.output or f"{case.name}_case.png")
+    names = [s.name or f"solid{i}" for i, s in enumerate(case.solids)]
+    plot_case(out, p.positions, p.kinds, body=p.body, body_names=names, dim=case.dim,
+              title=f"{case.name}: dp = {case.dp:g} m, {len(p):,} particles", dp=case.dp)
+    print(f"shoal: wrote {out}")
     return 0
 
 
@@ -148,7 +248,8 @@ def main(argv=None):
         parser.print_help()
         return 0
     try:
-        return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info}[args.command](args)
+        return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info, "check": cmd_check, "new": cmd_new,
+                "plot-case": cmd_plot_case}[args.command](args)
     except InputError as err:
         sys.stderr.write(f"shoal: error: {err}\n")
         return 2

@@ -57,13 +57,17 @@ class Model:
         at rho0.
     velocities : (N, 3) array, optional
         Initial velocities [m/s].
+    motions : list of motions, optional
+        Prescribed motions (:mod:`shoal.motions`) of the moving boundaries.
+    motion_of : (N,) int array, optional
+        Index into `motions` of each moving particle (-1 for the others).
     backend : str
         "cpu" (default).
     """
 
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
-                 velocities=None, backend="cpu"):
+                 velocities=None, motions=None, motion_of=None, backend="cpu"):
         options = options or SPHOptions()
         if dim not in (2, 3):
             raise InputError(f"dim = {dim!r}; allowed 2 or 3")
@@ -134,9 +138,46 @@ class Model:
             (np.dtype(np.int8).str, 0): b.zeros(n, np.int8),
         }
         self.extra_arrays = []  # integrator state arrays that follow the sort
+        self.time = 0.0  # simulated time of the state (set by the Simulation)
+        self._init_motions(positions[:, cols], kinds, motions, motion_of)
         self.n = n
         self.n_escaped = 0
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
+
+    def _init_motions(self, positions, kinds, motions, motion_of):
+        self.motions = list(motions or [])
+        moving = kinds == MOVING
+        if not moving.any():
+            self.motion_of = None
+            return
+        motion_of = np.full(len(kinds), -1, np.int32) if motion_of is None else np.asarray(motion_of, np.int32)
+        bad = moving & ((motion_of < 0) | (motion_of >= len(self.motions)))
+        if bad.any():
+            raise InputError(f"{int(bad.sum())} moving boundary particles have no motion; give each moving solid "
+                             f"a motion (motions defined: {len(self.motions)})")
+        b, F = self.backend, self.dtype
+        self.pos_init = b.asarray(np.ascontiguousarray(positions, dtype=np.float64))
+        self.motion_of = b.asarray(motion_of)
+        self._disp_host = np.zeros((len(self.motions), self.dim))
+        self._mvel_host = np.zeros((len(self.motions), self.dim), F)
+        self._disp = b.asarray(self._disp_host.copy())
+        self._mvel = b.asarray(self._mvel_host.copy())
+        self.move_bodies(0.0)
+
+    def move_bodies(self, t):
+        """Place the moving boundary particles where their motions put them at time `t` [s]."""
+        if self.motion_of is None:
+            return
+        cols = [0, 1, 2] if self.dim == 3 else [0, 2]
+        for k, m in enumerate(self.motions):
+            d, v = m.kinematics(t)
+            self._disp_host[k] = np.asarray(d, float)[cols]
+            self._mvel_host[k] = np.asarray(v, float)[cols]
+        b = self.backend
+        self._disp = b.asarray(self._disp_host.copy()) if b.name != "cpu" else self._disp_host
+        self._mvel = b.asarray(self._mvel_host.copy()) if b.name != "cpu" else self._mvel_host
+        b.timed(b.move_bodies, self.n, (self.pos, self.vel, self.kind, self.idp, self.pos_init, self.motion_of,
+                                        self._disp, self._mvel))
 
     # ------------------------------------------------------------------ sizes
     @property

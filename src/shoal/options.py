@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, fields
 
 import numpy as np
+from pydantic import ConfigDict
 
 from .errors import InputError
 
@@ -151,6 +152,9 @@ class SPHOptions:
         if self.cells_per_support not in (1, 2, 3):
             raise InputError(f"cells_per_support = {self.cells_per_support!r}; allowed 1, 2 or 3")
 
+    # validated as a table of a case file: unknown keys are errors (see `from_table`)
+    __pydantic_config__ = ConfigDict(extra="forbid")
+
     @property
     def dtype(self):
         """NumPy float type of the run."""
@@ -159,6 +163,31 @@ class SPHOptions:
     def to_dict(self):
         """Plain dict of the options (for the resolved-case file)."""
         return asdict(self)
+
+    @classmethod
+    def from_table(cls, d):
+        """Build from a case-file table, checking each value's type exactly
+        (a string is not a number, a boolean is not an integer)."""
+        if isinstance(d, cls):
+            return d
+        if not isinstance(d, dict):
+            raise InputError(f"must be a table of options, got {d!r}")
+        known = {f.name: f for f in fields(cls)}
+        for k, v in d.items():
+            if k not in known:
+                raise InputError(f"unknown option {k!r}; allowed: {', '.join(sorted(known))}")
+            default = known[k].default
+            if isinstance(default, bool):
+                ok, what = isinstance(v, bool), "true or false"
+            elif isinstance(default, int):
+                ok, what = isinstance(v, int) and not isinstance(v, bool), "an integer"
+            elif isinstance(default, float) or k == "fixed_dt":
+                ok, what = isinstance(v, (int, float)) and not isinstance(v, bool), "a number"
+            else:
+                ok, what = isinstance(v, str), "a string"
+            if not ok:
+                raise InputError(f"{k} = {v!r} must be {what}")
+        return cls(**d)
 
     @classmethod
     def from_dict(cls, d):

@@ -47,10 +47,36 @@ class RunResult:
 
 
 def build_model(case, backend="cpu"):
-    """The `Model` of a `Case`."""
-    return Model(case.positions, case.kinds, dp=case.dp, dim=case.dim, domain=case.domain,
-                 options=case.options, rho0=case.rho0, gravity=case.gravity,
-                 fluid_height=case.fluid_height, surface_z=case.surface_z, backend=backend)
+    """The `Model` of a `Case`: generate its particles and compile the scheme."""
+    p = case.particles()
+    rep = [s.name or f"solids[{i}]" for i, s in enumerate(case.solids) if s.boundary == "repulsive"]
+    if rep:
+        raise InputError(f"solid {rep[0]!r} uses boundary = 'repulsive': its particles are generated (shoal check, "
+                         "shoal plot-case) but the Monaghan-Kajtar boundary force is not in the solver yet; use "
+                         "boundary = 'dynamic'")
+    if case.symmetry_planes:
+        raise InputError("this case has a symmetry plane (a half-width model): its particles are generated "
+                         "(shoal check, shoal plot-case) but mirror particles are not in the solver yet; "
+                         "run the full width instead")
+    index = {m.name: k for k, m in enumerate(case.motions)}
+    body_motion = np.array([index.get(s.motion, -1) if s.motion else -1 for s in case.solids] + [-1], np.int32)
+    motion_of = np.where(p.body >= 0, body_motion[p.body], -1)
+    fl = case.fluid
+    return Model(p.positions, p.kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
+                 options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
+                 surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
+                 backend=backend)
+
+
+def run_summary(case, model):
+    """What a run records about its set-up (``resolved.json``)."""
+    lo, hi = case.resolved_domain()
+    counts = case.particles().counts()
+    return {
+        "name": case.name, "dim": case.dim, "dp": case.dp, "particles": counts, "total_particles": model.n_total,
+        "domain": [lo.tolist(), hi.tolist()], "end_time": case.end_time, "output_interval": case.output.interval,
+        "parameters": case.parameters,
+    }
 
 
 def _logger(out_dir):
@@ -99,8 +125,10 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     """Run `case`, writing everything under `out_dir`.
 
     Writes ``<name>.pvd`` and ``<name>_NNNN.vtu`` snapshots every
-    ``case.output_interval`` s, ``run.log``, ``resolved.json`` (all
-    parameters, defaults filled in) and ``<name>_final.png``. A run that goes
+    ``case.output.interval`` s, ``run.log``, ``case.toml`` (the resolved
+    case: every default filled in; ``shoal run case.toml`` runs it again),
+    ``resolved.json`` (particle counts, derived constants, versions) and
+    ``<name>_final.png``. A run that goes
     unstable writes ``<name>_unstable.vtu`` of the bad state, keeps what it
     wrote, and raises `InstabilityError`. An `out_dir` that already holds a
     run (a ``resolved.json``) is refused unless `overwrite` is true, so no
@@ -118,10 +146,14 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     out_dir.mkdir(parents=True, exist_ok=True)
     log = _logger(out_dir)
     sim = Simulation(model, case.end_time)
-    resolved = case.summary()
+    from .casefile import write_case
+
+    write_case(case, out_dir / "case.toml")
+    resolved = run_summary(case, model)
     resolved.update(
         shoal_version=__version__, backend=backend, python=platform.python_version(),
-        threads=model.backend.threads(), smoothing_length=model.h, speed_of_sound=model.c0,
+        threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
+        speed_of_sound=model.c0,
         eos_B=model.B, particle_mass=model.mass, solver_bytes=model.nbytes(),
         bytes_per_particle=model.nbytes() / model.n_total,
     )
@@ -131,7 +163,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
              model.n_total, case.n_fluid, case.dp, model.h, model.c0, backend, model.backend.threads(),
              case.options.precision)
     writer = SnapshotWriter(out_dir, case.name)
-    sim.add_callback(writer, TimeInterval(case.output_interval), name="snapshots")
+    sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = _Progress(case.end_time, progress)
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False),
                      name="progress")
@@ -140,7 +172,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         log.info("step %d t %.6g s dt %.4g s particles %d escaped %d", s.step_count, s.time, s.dt or 0.0,
                  s.model.n, s.model.n_escaped)
 
-    sim.add_callback(log_step, TimeInterval(case.output_interval, exact=False), name="log")
+    sim.add_callback(log_step, TimeInterval(case.output.interval, exact=False), name="log")
     try:
         sim.run(max_steps=max_steps)
     except InstabilityError as err:

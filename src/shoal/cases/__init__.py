@@ -5,7 +5,10 @@
 
 from ..errors import InputError
 from .dam_break import dam_break_2d, dam_break_3d, dam_break_dualsphysics
+from .rip_current import rip_current
 from .still_water import still_water_2d, still_water_3d
+from .tidal_bore import tidal_bore, tidal_bore_piers
+from .wave_flume import wave_flume_2d, wave_flume_3d
 
 CASES = {
     "dam-break-2d": dam_break_2d,
@@ -13,17 +16,35 @@ CASES = {
     "dam-break-dualsphysics": dam_break_dualsphysics,
     "still-water-2d": still_water_2d,
     "still-water-3d": still_water_3d,
+    "wave-flume-2d": wave_flume_2d,
+    "wave-flume-3d": wave_flume_3d,
+    "tidal-bore": tidal_bore,
+    "tidal-bore-piers": tidal_bore_piers,
+    "rip-current": rip_current,
 }
 
 
+def case_parameters(name):
+    """The parameters (and defaults) the built-in case `name` takes."""
+    import inspect
+
+    sig = inspect.signature(CASES[name])
+    return {k: p.default for k, p in sig.parameters.items() if k != "options"}
+
+
 def get_case(name, **kwargs):
-    """Build the built-in case `name` with keyword parameters."""
+    """Build the built-in case `name` with keyword parameters (checked by name)."""
     try:
         fn = CASES[name]
     except KeyError:
         raise InputError(f"unknown case {name!r}; built-in cases: {', '.join(CASES)}") from None
+    allowed = case_parameters(name)
+    for k in kwargs:
+        if k not in allowed and k != "options":
+            raise InputError(f"case {name!r} has no parameter {k!r}; its parameters: {', '.join(allowed)}")
     return fn(**kwargs)
 
 
-__all__ = ["CASES", "get_case", "dam_break_2d", "dam_break_3d", "dam_break_dualsphysics",
-           "still_water_2d", "still_water_3d"]
+__all__ = ["CASES", "get_case", "case_parameters", "dam_break_2d", "dam_break_3d", "dam_break_dualsphysics",
+           "still_water_2d", "still_water_3d", "wave_flume_2d", "wave_flume_3d", "tidal_bore", "tidal_bore_piers",
+           "rip_current"]

@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..case import Case
-from ..geometry import box_fill, hollow_box_walls, tank_walls
+from ..case import Case, Fluid, FluidRegion, Output, Solid
+from ..geometry.shapes import Box, Tank
 from ..options import SPHOptions
 from ._checks import check_count, check_dp, check_positive
 
@@ -56,18 +56,14 @@ def dam_break_2d(dp=0.003, a=0.146, tank_length=None, layers=3, end_time=None, o
     check_positive("tank_length", L, "m")
     H = 2.0 * a
     check_count((L * 2 * H) / dp**2, 2)
-    fluid = box_fill((0, 0, 0), (a, 0, H), dp, 2)
-    walls = tank_walls((0, 0, 0), (L, 0, 1.5 * H), dp, 2, layers=layers)
-    pos = np.vstack([fluid, walls])
-    kinds = np.r_[np.zeros(len(fluid), np.int8), np.ones(len(walls), np.int8)]
-    m = (layers + 1) * dp
-    domain = ((-m, 0.0, -m), (L + m, 0.0, 3.0 * H))
     if end_time is None:
         end_time = 3.5 / np.sqrt(2 * 9.81 / a)
-    return Case("dam-break-2d", 2, float(dp), pos, kinds, domain,
-                options=options or SPHOptions(), fluid_height=H, surface_z=H,
-                end_time=float(end_time), output_interval=float(output_interval),
+    return Case(name="dam-break-2d", dim=2, dp=float(dp), end_time=float(end_time),
                 description="2D dam break, column a x 2a (Martin & Moyce 1952; Koshizuka & Oka 1996)",
+                fluid=Fluid(depth=H, surface_level=H), options=options or SPHOptions(),
+                solids=[Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(L, 0, 1.5 * H)), layers=layers)],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(a, 0, H)))],
+                output=Output(interval=float(output_interval)),
                 parameters=dict(dp=dp, a=a, tank_length=L, layers=layers))
 
 
@@ -85,18 +81,14 @@ def dam_break_3d(dp=0.008, a=0.146, width=None, tank_length=None, layers=3, end_
     L = 5.0 * a if tank_length is None else float(tank_length)
     H = 2.0 * a
     check_count((L * W * 2 * H) / dp**3, 3)
-    fluid = box_fill((0, 0, 0), (a, W, H), dp, 3)
-    walls = tank_walls((0, 0, 0), (L, W, 1.5 * H), dp, 3, layers=layers)
-    pos = np.vstack([fluid, walls])
-    kinds = np.r_[np.zeros(len(fluid), np.int8), np.ones(len(walls), np.int8)]
-    m = (layers + 1) * dp
-    domain = ((-m, -m, -m), (L + m, W + m, 3.0 * H))
     if end_time is None:
         end_time = 3.5 / np.sqrt(2 * 9.81 / a)
-    return Case("dam-break-3d", 3, float(dp), pos, kinds, domain,
-                options=options or SPHOptions(), fluid_height=H, surface_z=H,
-                end_time=float(end_time), output_interval=float(output_interval),
+    return Case(name="dam-break-3d", dim=3, dp=float(dp), end_time=float(end_time),
                 description="3D dam break, column a x 2a x width (quasi-2D)",
+                fluid=Fluid(depth=H, surface_level=H), options=options or SPHOptions(),
+                solids=[Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(L, W, 1.5 * H)), layers=layers)],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(a, W, H)))],
+                output=Output(interval=float(output_interval)),
                 parameters=dict(dp=dp, a=a, width=W, tank_length=L, layers=layers))
 
 
@@ -124,18 +116,15 @@ def dam_break_dualsphysics(dp=0.0085, end_time=1.5, output_interval=0.01, precis
     check_dp(dp, 0.12, "the column width")
     check_count(1.6 * 0.67 * 0.45 / dp**3, 3)
     Lx, Ly, Lz = 1.6, 0.67, 0.4
-    # DualSPHysics draws boundaries on the surfaces; here one layer sits
-    # dp/2 outside the tank surfaces (and inside the column's surfaces).
-    fluid = box_fill((0, 0, 0), (0.4, Ly, 0.3), dp, 3)
-    walls = tank_walls((0, 0, 0), (Lx, Ly, Lz), dp, 3, layers=layers)
-    column = hollow_box_walls((0.9, 0.24, 0.0), (1.02, 0.36, 0.45), dp, 3, layers=layers)
-    pos = np.vstack([fluid, walls, column])
-    kinds = np.r_[np.zeros(len(fluid), np.int8), np.ones(len(walls) + len(column), np.int8)]
-    m = (layers + 1) * dp
-    domain = ((-m, -m, -m), (Lx + m, Ly + m, 0.6))
+    # DualSPHysics draws boundaries on the surfaces; here the layers sit on the
+    # lattice, the first dp/2 outside the tank surfaces (and inside the column's).
     opts = options or SPHOptions(**DUALSPHYSICS_OPTIONS, precision=precision)
-    return Case("dam-break-dualsphysics", 3, float(dp), pos, kinds, domain, options=opts,
-                fluid_height=0.3, surface_z=0.3, end_time=float(end_time),
-                output_interval=float(output_interval),
+    return Case(name="dam-break-dualsphysics", dim=3, dp=float(dp), end_time=float(end_time),
                 description="DualSPHysics 5.4 example 01_DamBreak (3D, with a column)",
-                parameters=dict(dp=dp, layers=layers))
+                fluid=Fluid(depth=0.3, surface_level=0.3), options=opts,
+                solids=[Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(Lx, Ly, Lz)), layers=layers),
+                        Solid(name="column", shape=Box(lo=(0.9, 0.24, 0.0), hi=(1.02, 0.36, 0.45)),
+                              layers=layers)],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.4, Ly, 0.3)))],
+                output=Output(interval=float(output_interval)),
+                parameters=dict(dp=dp, layers=layers, precision=precision))

@@ -92,6 +92,7 @@ class Simulation:
     def step(self):
         """Advance one time step and apply the density filter when due."""
         m = self.model
+        m.time = self.time
         try:
             dt = self.integrator.step(self._choose_dt)
         except InstabilityError as err:
@@ -99,6 +100,7 @@ class Simulation:
                 raise
             raise InstabilityError(f"unstable at step {self.step_count + 1}, t = {self.time:.6g} s: {err}") from None
         self.time += dt
+        m.time = self.time
         self.step_count += 1
         o = self.options
         if o.shepard_every and self.step_count % o.shepard_every == 0:

@@ -29,14 +29,17 @@ class Symplectic:
         m = self.model
         b = m.backend
         m.sort()
+        m.move_bodies(m.time)
         b.timed(b.save_state, m.n, (m.pos, m.vel, m.rho, *self._saved()))
         m.compute_rates()
         dt = choose_dt(m.time_step_limit())
         F = m.dtype.type
         b.timed(b.half_step, m.n, (m.pos, m.vel, m.rho, *self._saved(), m.ace, m.drho, m.xsph, m.kind,
                                    F(dt), m.P))
+        m.move_bodies(m.time + 0.5 * dt)
         m.compute_rates()
         self.correct(F(dt))
+        m.move_bodies(m.time + dt)
         return dt
 
     def correct(self, dt):

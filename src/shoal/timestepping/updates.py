@@ -9,7 +9,7 @@ that walls never attract fluid (as DualSPHysics does). With XSPH the
 particles move with v + dv_xsph.
 """
 
-from ..physics.spec import FLUID
+from ..physics.spec import FLUID, MOVING
 
 
 def make_updates(jit, spec, unpack):
@@ -109,5 +109,17 @@ def make_updates(jit, spec, unpack):
             rh = rho0[i] + hdt * drho[i]
             rho[i] = clamp_bound(two * rh - rho0[i], Parr)
 
+    @jit
+    def move_bodies(i, pos, vel, kind, idp, pos_init, motion_of, disp, mvel):
+        """Prescribed rigid motion of moving boundary particles:
+        r = r(0) + X_m(t), v = U_m(t) for the motion m of the particle's body
+        (positions from the initial ones, so no drift accumulates)."""
+        if kind[i] == MOVING:
+            p = idp[i]
+            m = motion_of[p]
+            for d in range(dim):
+                pos[i, d] = pos_init[p, d] + disp[m, d]
+                vel[i, d] = mvel[m, d]
+
     return dict(verlet=verlet, save_state=save_state, half_step=half_step,
-                symplectic_correct=symplectic_correct, pc_correct=pc_correct)
+                symplectic_correct=symplectic_correct, pc_correct=pc_correct, move_bodies=move_bodies)

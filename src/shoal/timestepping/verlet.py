@@ -37,6 +37,7 @@ class Verlet:
         """Advance one step; `choose_dt(dt_limit)` returns the dt to take."""
         m = self.model
         m.sort()
+        m.move_bodies(m.time)
         m.compute_rates()
         dt = choose_dt(m.time_step_limit())
         self.count += 1
@@ -46,4 +47,5 @@ class Verlet:
         b = m.backend
         b.timed(b.verlet, m.n, (m.pos, m.vel, m.rho, self.vel_m1, self.rho_m1, m.ace, m.drho, m.xsph,
                                 m.kind, m.dtype.type(dt), euler, m.P))
+        m.move_bodies(m.time + dt)
         return dt

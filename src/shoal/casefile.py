@@ -1,0 +1,279 @@
+"""TOML case files: read, validate, write.
+
+A case file is the TOML form of a `shoal.Case`: each table maps onto one
+constructor (``[fluid]`` -> `Fluid`, ``[[solids]]`` -> `Solid`, a
+``shape = {type = "box", ...}`` -> `shoal.geometry.Box`, ...), with the
+same names, units and defaults. Loading one never executes code: it is
+parsed by `tomllib` and validated by the pydantic schema of those classes.
+Every error is one line naming the file, the key with its path (e.g.
+``solids[1].shape.lo``), the value given and what is allowed.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+import typing
+from dataclasses import fields as dc_fields
+from dataclasses import is_dataclass
+from pathlib import Path
+
+from pydantic import BaseModel, ValidationError
+
+from .case import Case
+from .errors import InputError
+from .geometry.shapes import SHAPES
+from .motions import ConstantVelocity, PistonWavemaker
+
+MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker}
+_TAGGED = {"shape": SHAPES, "motions": MOTIONS}
+
+
+# ------------------------------------------------------------------ loading
+def load_case(path, overrides=None):
+    """Read and validate the case file `path` (plus `overrides`, a dict of
+    top-level values such as ``{"dp": 0.01}``); return a `Case`.
+
+    Raises
+    ------
+    InputError
+        One line: the file, the key, the value and what is allowed.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"case file {str(path)!r} not found")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file (a TOML case file is UTF-8 text)") from None
+    if overrides:
+        data.update(overrides)
+    return case_from_dict(data, source=str(path), base_dir=path.parent)
+
+
+def case_from_dict(data, source="case", base_dir=None):
+    """Validate a plain dict (a parsed case file) into a `Case`."""
+    try:
+        return Case.model_validate(data, context={"base_dir": str(base_dir) if base_dir else None})
+    except ValidationError as err:
+        raise InputError(f"{source}: {format_validation_error(err)}") from None
+    except InputError as err:
+        raise InputError(f"{source}: {err}") from None
+
+
+# ------------------------------------------------------------------ errors
+def _path(loc):
+    """('solids', 0, 'shape', 'box', 'lo') -> 'solids[0].shape.lo' (tags dropped)."""
+    out = ""
+    prev = None
+    for k, item in enumerate(loc):
+        if isinstance(item, int):
+            out += f"[{item}]"
+        else:
+            parent = prev if not isinstance(prev, int) else (loc[k - 2] if k >= 2 else None)
+            if parent in _TAGGED and item in _TAGGED[parent]:
+                prev = item
+                continue  # the union's tag pydantic puts in the path
+            if item.startswith("function-") or item in ("tagged-union",):
+                continue
+            out += ("." if out else "") + item
+        prev = item
+    return out or "(top level)"
+
+
+def _unwrap(ann):
+    """The model / dataclass classes an annotation refers to."""
+    origin = typing.get_origin(ann)
+    if origin is typing.Annotated:
+        return _unwrap(typing.get_args(ann)[0])
+    if origin in (list, tuple, typing.Union) or str(origin) == "types.UnionType":
+        out = []
+        for a in typing.get_args(ann):
+            out += _unwrap(a)
+        return out
+    if isinstance(ann, type) and (issubclass(ann, BaseModel) or is_dataclass(ann)):
+        return [ann]
+    import types
+
+    if isinstance(ann, types.UnionType):
+        out = []
+        for a in typing.get_args(ann):
+            out += _unwrap(a)
+        return out
+    return []
+
+
+def _fields(cls):
+    if isinstance(cls, type) and issubclass(cls, BaseModel):
+        return {k: f.annotation for k, f in cls.model_fields.items()}
+    hints = typing.get_type_hints(cls)
+    return {f.name: hints.get(f.name) for f in dc_fields(cls)}
+
+
+def _class_at(loc):
+    """The model class of the table at `loc` (for listing its keys)."""
+    cls = Case
+    prev = None
+    for k, item in enumerate(loc):
+        if isinstance(item, int):
+            prev = item
+            continue
+        parent = prev if not isinstance(prev, int) else (loc[k - 2] if k >= 2 else None)
+        if parent in _TAGGED and item in _TAGGED[parent]:
+            cls = _TAGGED[parent][item]
+            prev = item
+            continue
+        f = _fields(cls).get(item)
+        if f is None:
+            return None
+        found = _unwrap(f)
+        if not found:
+            return None
+        cls = found[0]
+        prev = item
+    return cls
+
+
+def _short(v, n=60):
+    r = repr(v)
+    return r if len(r) <= n else r[: n - 3] + "..."
+
+
+def format_validation_error(err):
+    """One line for the first error of a pydantic ValidationError."""
+    errors = err.errors()
+    e = errors[0]
+    loc = tuple(e["loc"])
+    path = _path(loc)
+    typ = e["type"]
+    msg = e["msg"]
+    more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
+    if typ in ("extra_forbidden", "unexpected_keyword_argument"):
+        parent_loc = loc[:-1]
+        cls = _class_at(parent_loc)
+        allowed = ", ".join(sorted(_fields(cls))) if cls is not None else "see the documentation"
+        where = _path(parent_loc) if parent_loc else "the top level"
+        return f"unknown key {loc[-1]!r} in {where}; allowed keys: {allowed}{more}"
+    if typ == "missing":
+        return f"missing required key {path}{more}"
+    if typ == "union_tag_invalid":
+        tags = e.get("ctx", {}).get("expected_tags", "")
+        return f"{path}.type = {_short(e['input'].get('type') if isinstance(e['input'], dict) else e['input'])} " \
+               f"is not a known type; allowed: {tags}{more}"
+    if typ == "union_tag_not_found":
+        parent = loc[-1] if loc and not isinstance(loc[-1], int) else (loc[-2] if len(loc) > 1 else "")
+        tags = ", ".join(repr(t) for t in _TAGGED.get(parent, {})) or "see the documentation"
+        return f"{path}: missing key 'type' (one of {tags}){more}"
+    if typ in ("model_type", "dataclass_type", "model_attributes_type", "dict_type", "dataclass_exact_type"):
+        return f"{path} = {_short(e.get('input'))} must be a table (key = value pairs){more}"
+    if typ == "value_error":
+        text = re.sub(r"^Value error, ", "", msg)
+        return f"{path}: {text}{more}"
+    text = re.sub(r"^Input should be", "must be", msg)
+    text = text.replace("Input", "the value")
+    return f"{path} = {_short(e.get('input'))}: {text}{more}"
+
+
+# ------------------------------------------------------------------ writing
+TABLE_DOCS = {
+    ("solids", "name"): "a name for logs, plots and motions",
+    ("solids", "velocity"): "[m/s]",
+    ("fluids", "velocity"): "initial velocity [m/s]",
+    ("motions", "velocity"): "wall velocity [m/s]",
+    ("motions", "depth"): "water depth at the paddle [m]",
+    ("fluid", "depth"): "reference depth H [m]: c0 = coef_sound * sqrt(g H)",
+    ("", "name"): "case name (output file names)",
+}
+KEY_DOCS = {
+    "dim": "2 (x-z plane) or 3",
+    "dp": "particle spacing [m]",
+    "end_time": "simulated time [s]",
+    "description": "what the case is",
+    "rho0": "reference density [kg/m^3]",
+    "gravity": "[m/s^2], z up",
+    "depth": "[m]",
+    "u_max": "largest expected speed [m/s] (sets c0 = coef_sound * u_max)",
+    "surface_level": "still free-surface level [m] (hydrostatic initial density)",
+    "kernel": '"wendland" or "cubic"',
+    "coef_h": "h = coef_h * sqrt(dim) * dp",
+    "coef_sound": "c0 = coef_sound * sqrt(g depth) (or * u_max)",
+    "viscosity": '"artificial" or "laminar"',
+    "alpha": "artificial viscosity coefficient",
+    "nu": "kinematic viscosity [m^2/s] (laminar)",
+    "density_diffusion": '"fourtakas", "molteni" or "none"',
+    "delta": "density diffusion coefficient",
+    "xsph": "XSPH epsilon (0 = off)",
+    "tensile_correction": "Monaghan (2000) tensile correction",
+    "shepard_every": "Shepard density filter every N steps (0 = off)",
+    "mls_every": "MLS density filter every N steps (0 = off)",
+    "integrator": '"symplectic", "verlet" or "predictor_corrector"',
+    "verlet_euler_every": "Euler step every N Verlet steps",
+    "cfl": "CFL number of the variable time step",
+    "fixed_dt": "fixed time step [s] (omit for variable)",
+    "precision": '"float32" or "float64"',
+    "cells_per_support": "neighbour cells per kernel support (1, 2 or 3)",
+    "boundary": '"dynamic" (layers of particles) or "repulsive" (Monaghan-Kajtar, dp/2)',
+    "layers": "layers of dynamic boundary particles (omit: as deep as the kernel support)",
+    "motion": "name of a [[motions]] entry moving this solid",
+    "velocity": "[m/s]",
+    "interval": "time between snapshots [s]",
+    "lattice_origin": "particles sit at origin + (i + 1/2) dp [m]",
+    "height": "wave height [m]",
+    "period": "wave period [s]",
+    "ramp_periods": "start-up ramp length in wave periods",
+    "start": "start time [s]",
+}
+
+HEADER = """\
+# shoal case file (TOML). Units are SI: metres, seconds, kilograms.
+# x along the flume (cross-shore), y lateral, z up; 2D cases use the x-z plane.
+# Run it:          shoal run {file}
+# Check it first:  shoal check {file}
+# Shapes: box, tank, plane, slope, prism, cylinder, bathymetry, mesh (STL) -- see the README.
+"""
+
+
+def dumps_case(case, commented=True, file_name="case.toml"):
+    """The TOML text of `case` (every default filled in); with `commented`,
+    a header and a comment after known keys."""
+    import tomli_w
+
+    data = case.resolved()
+    # order: scalars first, then tables, as a person would write it
+    order = ["name", "description", "dim", "dp", "end_time", "lattice_origin", "parameters", "domain", "fluid",
+             "options", "output", "motions", "solids", "fluids"]
+    data = {k: data[k] for k in order if k in data} | {k: v for k, v in data.items() if k not in order}
+    if not data.get("parameters"):
+        data.pop("parameters", None)
+    text = tomli_w.dumps(data, multiline_strings=False)
+    # arrays of numbers on one line: lo = [0.0, 0.0, 0.0]
+    text = re.sub(r"\[\n((?:    [^\n\[\]{}]*,\n)+)\]",
+                  lambda m: "[" + ", ".join(x.strip().rstrip(",") for x in m.group(1).splitlines()) + "]", text)
+    if not commented:
+        return text
+    lines = []
+    table = ""
+    for line in text.splitlines():
+        t = re.match(r"^\[\[?([A-Za-z_.]+)\]\]?$", line)
+        if t:
+            table = t.group(1).split(".")[0]
+        m = re.match(r"^([A-Za-z_][A-Za-z0-9_]*) = ", line)
+        doc = None
+        if m:
+            doc = TABLE_DOCS.get((table, m.group(1)), KEY_DOCS.get(m.group(1)))
+        if doc and "#" not in line and len(line) < 100:
+            line = f"{line}  # {doc}"
+        lines.append(line)
+    return HEADER.format(file=file_name) + "\n" + "\n".join(lines) + "\n"
+
+
+def write_case(case, path, commented=True):
+    """Write `case` as a TOML case file to `path` (atomically)."""
+    path = Path(path)
+    text = dumps_case(case, commented=commented, file_name=path.name)
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+    return path

@@ -1,0 +1,96 @@
+"""Wave flumes: a piston wavemaker at one end, constant depth, a beach at the other.
+
+Physics: regular waves of height H and period T made by a piston paddle
+whose stroke comes from Biesel's transfer function (`shoal.motions`),
+propagating over constant depth d (wavelength from the linear dispersion
+relation omega^2 = g k tanh(kd)) and breaking on a plane beach.
+Reference: linear wavemaker theory (Biesel & Suquet 1951; Dean & Dalrymple
+1991, ch. 6) -- the wave height measured in the flume against the target
+height (with probes, see the probes issue).
+
+Run time on 2 cores: `wave-flume-2d` at its default dp = 0.01 m (about 9k
+particles) runs about 2 s of waves a minute; `wave-flume-3d` at dp = 0.02 m
+(about 100k particles) is a GPU or long CPU run.
+"""
+
+from __future__ import annotations
+
+from ..case import Case, Fluid, FluidRegion, Output, Solid
+from ..geometry.shapes import Box, Slope, Tank
+from ..motions import PistonWavemaker
+from ..options import SPHOptions
+from ._checks import check_count, check_dp, check_positive
+
+
+def _flume(dim, dp, depth, length, beach_slope, width, wave_height, period, ramp_periods, end_time,
+           output_interval, options, name):
+    for n, v in (("depth", depth), ("length", length), ("beach_slope", beach_slope), ("wave_height", wave_height),
+                 ("period", period)):
+        check_positive(n, v, "m" if n not in ("period", "beach_slope") else ("s" if n == "period" else ""))
+    if dim == 3:
+        check_positive("width", width, "m")
+    check_dp(dp, depth if dim == 2 else min(depth, width), "the water depth" if dim == 2 else "depth or width")
+    if wave_height >= 0.8 * depth:
+        raise_height(wave_height, depth)
+    piston = PistonWavemaker(name="piston", height=wave_height, period=period, depth=depth,
+                             ramp_periods=ramp_periods)
+    top = depth + max(2.0 * wave_height, 0.2 * depth)
+    x_end = length + top / beach_slope  # the beach reaches the top of the walls
+    paddle_t = 4 * dp
+    x_back = -0.5 * piston.stroke - paddle_t - 2 * dp  # room behind the paddle for its back stroke
+    W = width if dim == 3 else 0.0
+    check_count((x_end - x_back) * top * (W if dim == 3 else 1.0) / dp**dim, dim)
+    solids = [
+        Solid(name="paddle", shape=Box(lo=(-paddle_t, 0.0, 0.0), hi=(0.0, W, top)), motion="piston"),
+        Solid(name="beach", shape=Slope(x0=length, z0=0.0, gradient=beach_slope)),
+        Solid(name="flume", shape=Tank(lo=(x_back, 0.0, 0.0), hi=(x_end, W, top))),
+    ]
+    fluids = [FluidRegion(shape=Box(lo=(0.0, 0.0, 0.0), hi=(x_end, W, depth)))]
+    return Case(name=name, dim=dim, dp=float(dp), end_time=float(end_time),
+                description=f"{dim}D wave flume: piston waves H = {wave_height:g} m, T = {period:g} s in "
+                            f"d = {depth:g} m on a 1:{1 / beach_slope:.3g} beach (Biesel piston theory)",
+                fluid=Fluid(depth=depth, surface_level=depth), options=options or SPHOptions(),
+                solids=solids, fluids=fluids, motions=[piston], output=Output(interval=float(output_interval)),
+                parameters=dict(dp=dp, depth=depth, length=length, beach_slope=beach_slope, width=width,
+                                wave_height=wave_height, period=period, ramp_periods=ramp_periods,
+                                stroke=piston.stroke, wavelength=2 * 3.141592653589793 / piston.wavenumber))
+
+
+def raise_height(h, d):
+    from ..errors import InputError
+
+    raise InputError(f"wave_height = {h:g} m is too large for depth = {d:g} m; regular waves break above "
+                     f"about 0.78 d = {0.78 * d:.3g} m")
+
+
+def wave_flume_2d(dp=0.01, depth=0.4, length=6.0, beach_slope=0.1, wave_height=0.05, period=1.2,
+                  ramp_periods=2.0, end_time=10.0, output_interval=0.1, options=None):
+    """2D wave flume: piston wavemaker, constant depth, plane beach.
+
+    Parameters
+    ----------
+    dp : float
+        Particle spacing [m].
+    depth : float
+        Still-water depth d [m].
+    length : float
+        Distance from the paddle's rest position to the toe of the beach [m].
+    beach_slope : float
+        Beach gradient (0.1 is 1:10).
+    wave_height, period : float
+        Target regular wave height H [m] and period T [s] (paddle stroke
+        from Biesel's transfer function).
+    ramp_periods : float
+        Start-up ramp of the paddle, in periods.
+    end_time, output_interval : float
+        [s].
+    """
+    return _flume(2, dp, depth, length, beach_slope, None, wave_height, period, ramp_periods, end_time,
+                  output_interval, options, "wave-flume-2d")
+
+
+def wave_flume_3d(dp=0.02, depth=0.4, length=6.0, beach_slope=0.1, width=0.5, wave_height=0.05, period=1.2,
+                  ramp_periods=2.0, end_time=10.0, output_interval=0.1, options=None):
+    """3D wave flume (the 2D flume extruded over `width` [m], side walls)."""
+    return _flume(3, dp, depth, length, beach_slope, width, wave_height, period, ramp_periods, end_time,
+                  output_interval, options, "wave-flume-3d")

@@ -1,0 +1,262 @@
+"""Geometry -> particles: fill fluid regions and build walls on one lattice.
+
+Every particle sits at a node of one Cartesian lattice of spacing dp,
+``origin + (i + 1/2) dp`` along each axis (the y axis is dropped in 2D), as
+in DualSPHysics's GenCase. A lattice node belongs to the first solid that
+contains it; otherwise to the first fluid region that contains it; otherwise
+it stays empty. So fluid never overlaps a solid and the closest fluid-wall
+pair is one spacing apart, whatever the shapes.
+
+Walls are the solid nodes near the space the fluid can reach:
+
+* **dynamic boundary particles** (several layers): the solid nodes whose
+  Euclidean distance to the nearest non-solid node is below the kernel
+  support 2h (default), i.e. every wall particle some fluid particle can
+  see; or, with ``layers = n``, within n spacings (Euclidean, plus the
+  corner nodes within n spacings in the chessboard metric, so box corners
+  are filled);
+* **repulsive boundary particles** (Monaghan & Kajtar 2009): a single
+  layer on a lattice of spacing dp/2 (same origin), the fine solid nodes
+  with a face neighbour outside the solids.
+
+Distances come from the exact Euclidean distance transform
+(`scipy.ndimage.distance_transform_edt`, Maurer et al. 2003) of the solid
+mask, computed slab by slab along x with a halo, so memory stays bounded
+for basins of millions of particles. Nodes are classified at points nudged
+by 1e-7 dp, so a node lying exactly on a shape's face is decided the same
+way everywhere (faces behave as half-open intervals [lo, hi)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+FLUID, FIXED, MOVING = 0, 1, 2
+_NUDGE = 1e-7 * np.array([0.731, 0.547, 0.613])
+_SLAB_NODES = 4_000_000
+
+
+@dataclass
+class Particles:
+    """Generated particles.
+
+    Attributes
+    ----------
+    positions : (N, 3) float64
+        World positions [m] (y = 0 in 2D).
+    kinds : (N,) int8
+        0 fluid, 1 fixed boundary, 2 moving boundary.
+    velocities : (N, 3) float64
+        Initial velocities [m/s].
+    body : (N,) int16
+        Index of the solid a boundary particle belongs to (-1 for fluid).
+    region : (N,) int16
+        Index of the fluid region a fluid particle belongs to (-1 for walls).
+    spacing : (N,) float64
+        Lattice spacing the particle was generated on (dp, or dp/2 for
+        repulsive boundary particles).
+    """
+
+    positions: np.ndarray
+    kinds: np.ndarray
+    velocities: np.ndarray
+    body: np.ndarray
+    region: np.ndarray
+    spacing: np.ndarray
+    body_names: list = field(default_factory=list)
+
+    def __len__(self):
+        return len(self.positions)
+
+    @property
+    def n_fluid(self):
+        return int(np.count_nonzero(self.kinds == FLUID))
+
+    def counts(self):
+        """Particle counts by kind: {"fluid": n, "fixed": n, "moving": n}."""
+        return {name: int(np.count_nonzero(self.kinds == k))
+                for name, k in (("fluid", FLUID), ("fixed", FIXED), ("moving", MOVING))}
+
+
+@dataclass
+class SolidInput:
+    """What the generator needs to know about one solid."""
+
+    shape: object
+    method: str = "dynamic"  # or "repulsive"
+    layers: int | None = None
+    moving: bool = False
+    name: str = ""
+
+
+@dataclass
+class FluidInput:
+    shape: object
+    velocity: tuple = (0.0, 0.0, 0.0)
+
+
+def _axis_range(lo, hi, origin, step):
+    """Lattice indices i with origin + (i + 1/2) step in [lo, hi]."""
+    i0 = math.ceil((lo - origin) / step - 0.5 - 1e-9)
+    i1 = math.floor((hi - origin) / step - 0.5 + 1e-9)
+    return i0, i1 + 1
+
+
+def support_layers(support_ratio):
+    """Number of wall layers inside the kernel support: the integers k >= 1
+    with k < 2h/dp (layer k is k spacings from the first fluid row)."""
+    return max(1, math.ceil(support_ratio - 1e-9) - 1)
+
+
+def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)):
+    """Particles of a case on the lattice of spacing `dp`.
+
+    Parameters
+    ----------
+    dim : {2, 3}
+    dp : float
+        Lattice spacing [m].
+    box : (lo, hi)
+        Region to generate in [m] (the computational domain).
+    solids : list of SolidInput
+    fluids : list of FluidInput
+    support_ratio : float
+        Kernel support over spacing, 2h/dp: walls without explicit `layers`
+        reach this far from the fluid.
+    origin : 3 floats
+        Lattice origin [m].
+
+    Returns
+    -------
+    Particles
+    """
+    origin = np.asarray(origin, float)
+    lo = np.asarray(box[0], float)
+    hi = np.asarray(box[1], float)
+    thick = []
+    for s in solids:
+        if s.layers is not None and (not isinstance(s.layers, (int, np.integer)) or s.layers < 1):
+            raise InputError(f"solid {s.name!r}: layers = {s.layers!r}; use an integer >= 1 or leave it out "
+                             "for walls as thick as the kernel support")
+        if s.method == "repulsive":
+            thick.append(1.0)
+        elif s.layers is None:
+            thick.append(float(support_layers(support_ratio)))
+        else:
+            thick.append(float(s.layers))
+    parts = [_generate_on(dim, dp, lo, hi, origin, solids, fluids, support_ratio, thick, fine=False)]
+    if any(s.method == "repulsive" for s in solids):
+        parts.append(_generate_on(dim, dp / 2, lo, hi, origin, solids, [], support_ratio, thick, fine=True))
+    pos = np.concatenate([p[0] for p in parts])
+    kinds = np.concatenate([p[1] for p in parts])
+    vel = np.concatenate([p[2] for p in parts])
+    body = np.concatenate([p[3] for p in parts])
+    region = np.concatenate([p[4] for p in parts])
+    spacing = np.concatenate([np.full(len(p[0]), dp if k == 0 else dp / 2) for k, p in enumerate(parts)])
+    # fluid first, then the walls solid by solid (stable: lattice order within each)
+    order = np.lexsort((np.arange(len(pos)), body))
+    return Particles(pos[order], kinds[order], vel[order], body[order], region[order], spacing[order],
+                     [s.name for s in solids])
+
+
+def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick, fine):
+    from scipy.ndimage import distance_transform_cdt, distance_transform_edt
+
+    axes = [0, 2] if dim == 2 else [0, 1, 2]
+    ranges = [_axis_range(lo[a], hi[a], origin[a], step) for a in axes]
+    shape = [max(0, r[1] - r[0]) for r in ranges]
+    if 0 in shape:
+        raise InputError(f"the domain {lo.tolist()} - {hi.tolist()} m is thinner than one particle spacing "
+                         f"({step:g} m) along some axis")
+    halo = int(math.ceil(max(thick, default=1.0))) + 1
+    per_x = int(np.prod(shape[1:]))
+    nx_slab = max(1, _SLAB_NODES // max(per_x, 1))
+    # wall-generation pad for shells (tanks): the thickness of their layers
+    pads = [t * step if not fine else step for t in thick]
+    out_pos, out_kind, out_vel, out_body, out_region = [], [], [], [], []
+    dynamic = np.array([s.method != "repulsive" for s in solids], bool)
+    for xs in range(0, shape[0], nx_slab):
+        xe = min(shape[0], xs + nx_slab)
+        gs, ge = max(0, xs - halo), min(shape[0], xe + halo)
+        idx = [np.arange(ranges[0][0] + gs, ranges[0][0] + ge)] + [np.arange(r[0], r[1]) for r in ranges[1:]]
+        coords = [origin[a] + (i + 0.5) * step for a, i in zip(axes, idx)]
+        grids = np.meshgrid(*coords, indexing="ij")
+        local_shape = grids[0].shape
+        pts = np.zeros((grids[0].size, 3))
+        for a, g in zip(axes, grids):
+            pts[:, a] = g.ravel()
+        probe = pts + _NUDGE * step
+        owner = np.full(len(pts), -1, np.int32)
+        for k, s in enumerate(solids):
+            free = owner < 0
+            if not free.any():
+                break
+            m = np.zeros(len(pts), bool)
+            m[free] = s.shape.contains(probe[free], dim, pads[k])
+            owner[m] = k
+        solid = (owner >= 0).reshape(local_shape)
+        core = slice(xs - gs, xe - gs)
+        keep = np.zeros(local_shape, bool)
+        if solid.any():
+            # beyond the generation box counts as solid (no walls on the domain faces),
+            # except across the slab cuts, where the halo supplies the neighbours
+            pad_width = [(1 if gs == 0 else 0, 1 if ge == shape[0] else 0)] + [(1, 1)] * (len(axes) - 1)
+            padded = np.pad(solid, pad_width, constant_values=True)
+            inner = tuple(slice(p0, p0 + n) for (p0, _), n in zip(pad_width, local_shape))
+            d_e = distance_transform_edt(padded)[inner]
+            own = owner.reshape(local_shape)
+            if fine:
+                for k, s in enumerate(solids):
+                    if s.method == "repulsive":
+                        keep |= (own == k) & (d_e <= 1.0 + 1e-6)
+            else:
+                d_c = None
+                for k, s in enumerate(solids):
+                    if not dynamic[k]:
+                        continue
+                    if s.layers is None:
+                        keep |= (own == k) & (d_e < support_ratio - 1e-6)
+                    else:
+                        if d_c is None:
+                            d_c = distance_transform_cdt(padded, metric="chessboard")[inner]
+                        keep |= (own == k) & ((d_e <= s.layers + 1e-6) | (d_c <= s.layers))
+        keep_c = keep[core].ravel()
+        owner_c = owner.reshape(local_shape)[core].ravel()
+        pts_c = pts.reshape(*local_shape, 3)[core].reshape(-1, 3)
+        probe_c = probe.reshape(*local_shape, 3)[core].reshape(-1, 3)
+        wall_idx = np.flatnonzero(keep_c)
+        if len(wall_idx):
+            b = owner_c[wall_idx]
+            moving = np.array([s.moving for s in solids], bool)[b]
+            out_pos.append(pts_c[wall_idx])
+            out_kind.append(np.where(moving, MOVING, FIXED).astype(np.int8))
+            out_vel.append(np.zeros((len(wall_idx), 3)))
+            out_body.append(b.astype(np.int16))
+            out_region.append(np.full(len(wall_idx), -1, np.int16))
+        if fluids:
+            region = np.full(len(pts_c), -1, np.int32)
+            for k, f in enumerate(fluids):
+                free = (owner_c < 0) & (region < 0)
+                if not free.any():
+                    break
+                m = np.zeros(len(pts_c), bool)
+                m[free] = f.shape.contains(probe_c[free], dim, 0.0)
+                region[m] = k
+            fidx = np.flatnonzero(region >= 0)
+            if len(fidx):
+                vels = np.asarray([f.velocity for f in fluids], float)
+                out_pos.append(pts_c[fidx])
+                out_kind.append(np.full(len(fidx), FLUID, np.int8))
+                out_vel.append(vels[region[fidx]])
+                out_body.append(np.full(len(fidx), -1, np.int16))
+                out_region.append(region[fidx].astype(np.int16))
+    if not out_pos:
+        return (np.zeros((0, 3)), np.zeros(0, np.int8), np.zeros((0, 3)), np.zeros(0, np.int16),
+                np.zeros(0, np.int16))
+    return (np.concatenate(out_pos), np.concatenate(out_kind), np.concatenate(out_vel),
+            np.concatenate(out_body), np.concatenate(out_region))
