@@ -20,7 +20,7 @@ and velocity 3 x float64, density and pressure float64, id and kind int32,
 connectivity, offsets and cell types; measured on written files: 80-84)."""
 
 
-def solver_bytes(n, dim, options, n_cells):
+def solver_bytes(n, dim, options, n_cells, moving=False):
     """Bytes the solver holds for `n` particles (what `Model.nbytes` counts
     once the integrator has allocated its state), in the options' precision.
 
@@ -30,19 +30,26 @@ def solver_bytes(n, dim, options, n_cells):
     float [dim], float, int32, int8); the grid's cell, permutation and key
     (3 int32); the integrator's saved state (symplectic and
     predictor-corrector: positions float64 [dim], velocity [dim], density;
-    Verlet: velocity [dim], density). Plus 4 bytes per grid cell.
+    Verlet: velocity [dim], density); with moving bodies, their initial
+    positions float64 [dim] and motion index (int32). Plus 4 bytes per grid
+    cell.
     """
     f = np.dtype(options.precision).itemsize
     per = 8 * dim + f * dim * 2 + f * 4 + 1 + 4
+    fixed = 0
     if options.xsph > 0:
         per += f * dim
+    else:
+        fixed += f * dim  # a one-row placeholder
+    if moving:
+        per += 8 * dim + 4
     per += 8 * dim + f * dim + f + 4 + 1
     per += 12
     if options.integrator == "verlet":
         per += f * dim + f
     else:
         per += 8 * dim + f * dim + f
-    return per * n + 4 * (n_cells + 2)
+    return per * n + 4 * (n_cells + 2) + fixed
 
 
 def check_case(case):
@@ -59,7 +66,7 @@ def check_case(case):
     axes = [0, 2] if dim == 2 else [0, 1, 2]
     n_cells = int(np.prod([max(1, math.ceil((hi[a] - lo[a]) / cell)) for a in axes]))
     n = len(p)
-    mem = solver_bytes(n, dim, o, n_cells)
+    mem = solver_bytes(n, dim, o, n_cells, moving=bool(np.any(p.kinds == 2)))
     dt_c = o.cfl * h / c0
     dt_g = o.cfl * math.sqrt(h / g) if g > 0 else math.inf
     dt = o.fixed_dt if o.fixed_dt is not None else min(dt_c, dt_g)

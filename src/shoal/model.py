@@ -139,9 +139,9 @@ class Model:
         }
         self.extra_arrays = []  # integrator state arrays that follow the sort
         self.time = 0.0  # simulated time of the state (set by the Simulation)
-        self._init_motions(positions[:, cols], kinds, motions, motion_of)
         self.n = n
         self.n_escaped = 0
+        self._init_motions(positions[:, cols], kinds, motions, motion_of)
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
 
     def _init_motions(self, positions, kinds, motions, motion_of):
@@ -193,6 +193,8 @@ class Model:
         """Bytes of particle, work and grid arrays held by the model."""
         arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.vmax,
                   self.pr2, self.xsph, *self.scratch.values(), *self.extra_arrays]
+        if self.motion_of is not None:
+            arrays += [self.pos_init, self.motion_of]
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
 
     def new_array(self, like):

@@ -1,0 +1,58 @@
+"""Every built-in case builds its particles and runs a few steps on the CPU."""
+
+import numpy as np
+import pytest
+
+from shoal.cases import CASES, get_case
+from shoal.check import check_case, solver_bytes
+from shoal.errors import InputError
+from shoal.runner import build_model
+from shoal.simulation import Simulation
+
+COARSE = {
+    "dam-break-2d": dict(dp=0.01), "dam-break-3d": dict(dp=0.03), "dam-break-dualsphysics": dict(dp=0.03),
+    "still-water-2d": dict(dp=0.05), "still-water-3d": dict(dp=0.06), "wave-flume-2d": dict(dp=0.04),
+    "wave-flume-3d": dict(dp=0.08, width=0.4), "tidal-bore": dict(dp=0.025), "tidal-bore-piers": dict(dp=0.025),
+    "rip-current": dict(dp=0.075),
+}
+
+
+def test_every_case_has_a_coarse_setting():
+    assert set(COARSE) == set(CASES)
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_case_builds_and_runs_a_few_steps(name):
+    case = get_case(name, **COARSE[name])
+    p = case.particles()
+    assert p.n_fluid > 0 and len(p) == len(p.kinds)
+    lines = check_case(case)
+    assert any("particles:" in s for s in lines)
+    model = build_model(case)
+    n0 = model.n_total
+    sim = Simulation(model, end_time=1.0).run(max_steps=3)
+    assert sim.step_count == 3 and sim.time > 0
+    assert model.n == n0  # nothing left the domain in 3 steps
+    assert np.all(np.isfinite(model.world_positions()))
+    # solver_bytes is what the model holds once the integrator has its state
+    moving = bool(np.any(p.kinds == 2))
+    assert solver_bytes(n0, case.dim, case.options, model.grid.ncell, moving) == model.nbytes()
+    mem_line = next(s for s in lines if s.strip().startswith("memory:"))
+    assert f"{model.nbytes() / 2**20:,.1f} MiB" in mem_line  # shoal check's estimate is what the run holds
+
+
+def test_half_width_and_repulsive_cases_check_but_do_not_run():
+    half = get_case("tidal-bore", dp=0.025, half=True)
+    full = get_case("tidal-bore", dp=0.025)
+    assert half.particles().n_fluid * 2 == full.particles().n_fluid
+    with pytest.raises(InputError, match="symmetry plane"):
+        build_model(half)
+    rep = get_case("rip-current", dp=0.075, boundary="repulsive")
+    assert np.all(rep.particles().spacing[rep.particles().kinds != 0] == 0.075 / 2)
+    with pytest.raises(InputError, match="repulsive"):
+        build_model(rep)
+
+
+def test_unknown_case_parameter_is_named():
+    with pytest.raises(InputError, match="no parameter 'speed'.*inflow_speed"):
+        get_case("tidal-bore", speed=0.3)

@@ -1,0 +1,73 @@
+"""Prescribed motions: wavemaker theory and rigid motion of moving walls in a run."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shoal.case import Case, Fluid, FluidRegion, Solid
+from shoal.geometry.shapes import Box, Tank
+from shoal.motions import ConstantVelocity, PistonWavemaker, piston_height_to_stroke, wavenumber
+from shoal.runner import build_model
+from shoal.simulation import Simulation
+
+
+@pytest.mark.parametrize("period,depth", [(1.0, 0.5), (1.5, 0.517), (3.0, 0.2), (0.6, 2.0)])
+def test_wavenumber_solves_the_dispersion_relation(period, depth):
+    k = wavenumber(period, depth)
+    omega = 2 * math.pi / period
+    assert omega**2 == pytest.approx(9.81 * k * math.tanh(k * depth), rel=1e-12)
+
+
+def test_biesel_limits():
+    """Shallow water: H/S -> kd (Galvin's 'volume displaced' result);
+    deep water: H/S -> 2 (Dean & Dalrymple 1991, Fig. 6.4)."""
+    for kd in (1e-3, 1e-2):
+        assert piston_height_to_stroke(kd, 1.0) == pytest.approx(kd, rel=1e-4)
+    assert piston_height_to_stroke(20.0, 1.0) == pytest.approx(2.0, rel=1e-9)
+    # the same function written as 4 sinh^2(kd) / (sinh 2kd + 2kd)
+    for kd in (0.3, 1.0, 2.5):
+        assert piston_height_to_stroke(kd, 1.0) == pytest.approx(
+            4 * math.sinh(kd) ** 2 / (math.sinh(2 * kd) + 2 * kd), rel=1e-12)
+
+
+def test_piston_kinematics():
+    p = PistonWavemaker(name="p", height=0.1, period=1.2, depth=0.4, ramp_periods=2.0)
+    k = wavenumber(1.2, 0.4)
+    assert p.stroke == pytest.approx(0.1 / piston_height_to_stroke(k, 0.4))
+    # velocity is the time derivative of displacement (ramp included)
+    for t in (0.1, 0.9, 2.3, 2.4, 5.0):
+        e = 1e-6
+        d = (p.kinematics(t + e)[0] - p.kinematics(t - e)[0]) / (2 * e)
+        np.testing.assert_allclose(p.kinematics(t)[1], d, atol=1e-6)
+    # after the ramp the amplitude is S/2
+    ts = np.linspace(3 * 1.2, 5 * 1.2, 2001)
+    x = np.array([p.kinematics(t)[0][0] for t in ts])
+    assert x.max() == pytest.approx(p.stroke / 2, rel=1e-4)
+    assert p.kinematics(0.0)[0][0] == 0.0 and p.kinematics(0.0)[1][0] == 0.0
+
+
+@pytest.mark.parametrize("integrator", ["symplectic", "verlet", "predictor_corrector"])
+def test_moving_wall_moves_rigidly_with_its_motion(integrator):
+    u = -0.3
+    case = Case(name="wall", dim=2, dp=0.02, fluid=Fluid(depth=0.1, surface_level=0.1),
+                options={"integrator": integrator},
+                solids=[Solid(name="wall", shape=Box(lo=(0.6, 0, 0), hi=(0.66, 0, 0.2)), motion="push"),
+                        Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(0.66, 0, 0.2), open=["top", "xmax"]))],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.6, 0, 0.1)), velocity=(u, 0, 0))],
+                motions=[ConstantVelocity(name="push", velocity=(u, 0, 0))])
+    model = build_model(case)
+    p0 = case.particles()
+    sim = Simulation(model, end_time=0.05).run()
+    assert sim.time == pytest.approx(0.05)
+    ids = model.host(model.idp)
+    pos = model.world_positions()
+    vel = model.world_velocities()
+    moving = p0.kinds[ids] == 2
+    assert moving.sum() == np.count_nonzero(p0.kinds == 2) > 0
+    expect = p0.positions[ids[moving]] + [u * sim.time, 0, 0]
+    np.testing.assert_allclose(pos[moving], expect, atol=1e-12)
+    np.testing.assert_allclose(vel[moving], [[u, 0, 0]] * int(moving.sum()), rtol=1e-6)
+    fixed = p0.kinds[ids] == 1
+    np.testing.assert_array_equal(pos[fixed], p0.positions[ids[fixed]])
+    assert model.n_escaped == 0
