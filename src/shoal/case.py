@@ -31,11 +31,19 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr,
 
 from .errors import InputError
 from .geometry.generate import FluidInput, Particles, SolidInput, generate
-from .geometry.shapes import AnyShape, Real, Spec, Vec3
+from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, Vec3
 from .motions import AnyMotion
 from .options import SPHOptions
 
-PositiveReal = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+def _exact_int(name, allowed):
+    def check(v):
+        if isinstance(v, bool) or not isinstance(v, int):
+            shown = ("true" if v else "false") if isinstance(v, bool) else repr(v)
+            raise ValueError(f"{name} = {shown} must be the integer {allowed}")
+        return v
+    return check
+
+
 Options = Annotated[SPHOptions, BeforeValidator(SPHOptions.from_table)]
 
 
@@ -171,8 +179,8 @@ class Case(BaseModel):
 
     model_config = ConfigDict(extra="forbid", validate_assignment=True, arbitrary_types_allowed=False)
 
-    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
-    dim: Literal[2, 3]
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$", strict=True)]
+    dim: Annotated[Literal[2, 3], BeforeValidator(_exact_int("dim", "2 or 3"))]
     dp: PositiveReal
     end_time: PositiveReal = 1.0
     description: str = ""
@@ -262,9 +270,10 @@ class Case(BaseModel):
         fluids = [FluidInput(f.shape, f.velocity) for f in self.fluids]
         support = 2.0 * self.smoothing_length / self.dp
         p = generate(self.dim, self.dp, (lo, hi), solids, fluids, support, self.lattice_origin)
-        if p.n_fluid == 0:
-            raise InputError("no fluid particle was generated: the fluid regions lie inside solids, outside "
-                             "the domain, or are thinner than dp")
+        for k in range(len(self.fluids)):
+            if not np.any(p.region == k):
+                raise InputError(f"fluids[{k}] ({self.fluids[k].shape.type}) holds no particle: it lies inside "
+                                 "solids, outside the domain, or is thinner than dp")
         if self.dim == 2:
             p.positions[:, 1] = 0.0
         self._particles, self._key = p, key
@@ -314,4 +323,5 @@ class Case(BaseModel):
                 raise InputError(f"solid {s.name!r}: a bathymetry given as a Python function cannot be written "
                                  "to a case file; sample it on a grid (Bathymetry(grid=...))")
         d = self.model_dump(mode="json", exclude_none=True)
+        d["parameters"] = {k: v for k, v in d.get("parameters", {}).items() if v is not None}
         return d

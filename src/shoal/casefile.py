@@ -137,6 +137,12 @@ def _class_at(loc):
 
 
 def _short(v, n=60):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if v is None:
+        return "nothing"
+    if hasattr(v, "isoformat"):
+        return v.isoformat()
     r = repr(v)
     return r if len(r) <= n else r[: n - 3] + "..."
 
@@ -156,6 +162,8 @@ def format_validation_error(err):
         allowed = ", ".join(sorted(_fields(cls))) if cls is not None else "see the documentation"
         where = _path(parent_loc) if parent_loc else "the top level"
         return f"unknown key {loc[-1]!r} in {where}; allowed keys: {allowed}{more}"
+    if typ == "missing" and loc and isinstance(loc[-1], int):
+        return f"{_path(loc[:-1])} has too few values (a point or vector is an array of 3 numbers){more}"
     if typ == "missing":
         return f"missing required key {path}{more}"
     if typ == "union_tag_invalid":
@@ -170,8 +178,27 @@ def format_validation_error(err):
         return f"{path} = {_short(e.get('input'))} must be a table (key = value pairs){more}"
     if typ == "value_error":
         text = re.sub(r"^Value error, ", "", msg)
+        if path == "(top level)" or text.startswith("unknown key"):
+            return f"{text}{more}"
+        if path == "options" and re.match(r"^[a-z_]+ = ", text):
+            return f"options.{text}{more}"
+        key = loc[-1] if loc else None
+        if isinstance(key, str) and text.startswith(f"{key} = "):
+            return f"{path}{text[len(key):]}{more}"
         return f"{path}: {text}{more}"
+    if typ == "string_pattern_mismatch":
+        return f"{path} = {_short(e.get('input'))}: use letters, digits, '_', '.' and '-' only{more}"
+    if typ == "bool_parsing" or typ == "bool_type":
+        return f"{path} = {_short(e.get('input'))}: must be true or false{more}"
+    if typ in ("float_type", "int_type", "float_parsing", "int_parsing", "int_from_float", "literal_error") \
+            and isinstance(e.get("input"), (bool, str)) and typ != "literal_error":
+        what = "an integer" if typ.startswith("int") else "a number"
+        return f"{path} = {_short(e.get('input'))}: must be {what}{more}"
     text = re.sub(r"^Input should be", "must be", msg)
+    text = text.replace("a valid tuple", "an array").replace("a valid list", "an array")
+    text = text.replace("a valid integer", "an integer").replace("a valid number", "a number")
+    text = re.sub(r"^(Tuple|List) should have", "must have", text)
+    text = text.replace(" items after validation", " values").replace(" item after validation", " value")
     text = text.replace("Input", "the value")
     return f"{path} = {_short(e.get('input'))}: {text}{more}"
 

@@ -20,7 +20,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 from pydantic import Field
 
-from .geometry.shapes import Spec, Vec3
+from .geometry.shapes import PositiveReal, Spec, Vec3
 
 _G = 9.81
 
@@ -65,7 +65,7 @@ class ConstantVelocity(Motion):
 
     type: Literal["constant_velocity"] = "constant_velocity"
     velocity: Vec3
-    start: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
+    start: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
 
     def kinematics(self, t):
         v = np.asarray(self.velocity, float)
@@ -83,11 +83,11 @@ class PistonWavemaker(Motion):
     """
 
     type: Literal["piston"] = "piston"
-    height: Annotated[float, Field(gt=0, allow_inf_nan=False)]
-    period: Annotated[float, Field(gt=0, allow_inf_nan=False)]
-    depth: Annotated[float, Field(gt=0, allow_inf_nan=False)]
+    height: PositiveReal
+    period: PositiveReal
+    depth: PositiveReal
     direction: Vec3 = (1.0, 0.0, 0.0)
-    ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 2.0
+    ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 2.0
 
     @property
     def wavenumber(self):

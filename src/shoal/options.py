@@ -175,7 +175,7 @@ class SPHOptions:
         known = {f.name: f for f in fields(cls)}
         for k, v in d.items():
             if k not in known:
-                raise InputError(f"unknown option {k!r}; allowed: {', '.join(sorted(known))}")
+                raise InputError(f"unknown key {k!r} in options; allowed keys: {', '.join(sorted(known))}")
             default = known[k].default
             if isinstance(default, bool):
                 ok, what = isinstance(v, bool), "true or false"
@@ -186,7 +186,8 @@ class SPHOptions:
             else:
                 ok, what = isinstance(v, str), "a string"
             if not ok:
-                raise InputError(f"{k} = {v!r} must be {what}")
+                shown = {True: "true", False: "false"}.get(v, v) if isinstance(v, bool) else v
+                raise InputError(f"{k} = {shown!r} must be {what}".replace("'true'", "true").replace("'false'", "false"))
         return cls(**d)
 
     @classmethod

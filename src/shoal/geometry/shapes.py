@@ -34,7 +34,9 @@ def _to_list(v):
     return v.tolist() if isinstance(v, np.ndarray) else v
 
 
-Real = Annotated[float, Field(allow_inf_nan=False)]
+Real = Annotated[float, Field(allow_inf_nan=False, strict=True)]
+"""A finite number (strict: a string or a boolean is not a number; an integer is)."""
+PositiveReal = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 Vec2 = Annotated[tuple[Real, Real], BeforeValidator(_to_list)]
 Vec3 = Annotated[tuple[Real, Real, Real], BeforeValidator(_to_list)]
 RealList = Annotated[list[Real], BeforeValidator(_to_list)]
@@ -232,7 +234,8 @@ class Prism(Shape):
     def _area(self):
         v = np.asarray(self.vertices, float)
         area = 0.5 * abs(np.dot(v[:, 0], np.roll(v[:, 1], -1)) - np.dot(v[:, 1], np.roll(v[:, 0], -1)))
-        if not area > 0:
+        extent = float(np.max(np.ptp(v, axis=0)))
+        if not area > 1e-9 * extent**2:
             raise ValueError("the polygon has zero area; give at least 3 corners not on one line")
         if self.lo is not None and self.hi is not None and self.hi < self.lo:
             raise ValueError(f"hi = {self.hi} is below lo = {self.lo}")
@@ -271,7 +274,7 @@ class Cylinder(Shape):
 
     type: Literal["cylinder"] = "cylinder"
     center: Vec2
-    radius: Annotated[float, Field(gt=0, allow_inf_nan=False)]
+    radius: PositiveReal
     axis: Literal["x", "y", "z"] = "z"
     lo: Real | None = None
     hi: Real | None = None
@@ -387,6 +390,14 @@ class Bathymetry(Shape):
     function: Annotated[Callable | None, Field(exclude=True)] = None
     base: Real | None = None
 
+    @field_validator("function", mode="before")
+    @classmethod
+    def _code(cls, v):
+        if v is not None and not callable(v):
+            raise ValueError("a function is Python-API only: a case file is data and cannot hold code; "
+                             "give the bed as a profile, a grid or a file")
+        return v
+
     @field_validator("file")
     @classmethod
     def _resolve(cls, v, info: ValidationInfo):
@@ -449,7 +460,7 @@ class Mesh(Shape):
 
     type: Literal["mesh"] = "mesh"
     file: str
-    scale: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 1.0
+    scale: PositiveReal = 1.0
     offset: Vec3 = (0.0, 0.0, 0.0)
 
     @field_validator("file")
