@@ -106,9 +106,8 @@ def test_obstacle_keeps_only_its_surface_layers():
     box = Box(lo=(0.4, 0.0, 0.0), hi=(1.2, 0, 0.8))  # 8 x 8 nodes, solid
     c = make(2, [Solid(shape=box, layers=2)], [FluidRegion(shape=Box(lo=(0, 0, 0), hi=(2.0, 0, 1.0)))])
     p = c.particles()
-    # a hollow 8 x 8 square two deep, open at the domain's bottom face (beyond the box is not fluid):
-    # the bottom rows border the domain edge (solid), so only sides and top are walls
-    assert p.counts()["fixed"] == 8 * 8 - 4 * 6  # inner 4 x 6 (rows 0..5 from the bottom, x 2..5) removed
+    # a hollow 8 x 8 square two deep: its 4 x 4 core is more than 2 spacings from the outside
+    assert p.counts()["fixed"] == 8 * 8 - 4 * 4
     assert p.counts()["fluid"] == 20 * 10 - 64
 
 
@@ -234,6 +233,16 @@ def test_unbounded_shapes_need_a_domain():
              [FluidRegion(shape=Slope(x0=0, z0=0, gradient=1.0))])
     with pytest.raises(InputError, match="domain"):
         c.particles()
+
+
+def test_faces_on_an_explicit_domain_boundary_get_no_walls():
+    """Beyond an explicit domain is not fluid: a block standing on the domain's bottom face gets no wall
+    particles on that face (they would never see fluid)."""
+    box = Box(lo=(0.4, 0.0, 0.0), hi=(1.2, 0, 0.8))
+    c = make(2, [Solid(shape=box, layers=2)], [FluidRegion(shape=Box(lo=(0, 0, 0), hi=(2.0, 0, 1.0)))],
+             domain=Domain(lo=(0, 0, 0), hi=(2.0, 0, 1.0)))
+    p = c.particles()
+    assert p.counts()["fixed"] == 8 * 8 - 4 * 6  # the core 4 x 6 (rows 0..5 from the bottom) is not a wall
 
 
 def test_walls_outside_an_explicit_domain_are_refused():

@@ -30,7 +30,7 @@ import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
 
 from .errors import InputError
-from .geometry.generate import FluidInput, Particles, SolidInput, generate
+from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, Vec3
 from .motions import AnyMotion
 from .options import SPHOptions
@@ -220,8 +220,9 @@ class Case(BaseModel):
 
     def _generation_box(self):
         h2 = 2.0 * self.smoothing_length
-        layers = max([math.ceil(h2 / self.dp)] + [s.layers or 0 for s in self.solids])
-        pad = (1 + layers) * self.dp
+        layers = max([support_layers(h2 / self.dp)] + [s.layers or 0 for s in self.solids])
+        pad = layers * self.dp
+        ring = self.dp  # one empty ring of nodes beyond the shapes, so every outer face gets its wall
         if self.domain is not None:
             lo, hi = np.array(self.domain.lo, float), np.array(self.domain.hi, float)
             axes = (0, 2) if self.dim == 2 else (0, 1, 2)
@@ -246,8 +247,8 @@ class Case(BaseModel):
                 his.append(hi)
         los, his = np.array(los), np.array(his)
         with np.errstate(invalid="ignore"):
-            lo = np.min(np.where(np.isfinite(los), los, np.inf), axis=0)
-            hi = np.max(np.where(np.isfinite(his), his, -np.inf), axis=0)
+            lo = np.min(np.where(np.isfinite(los), los, np.inf), axis=0) - ring
+            hi = np.max(np.where(np.isfinite(his), his, -np.inf), axis=0) + ring
         axes = (0, 2) if self.dim == 2 else (0, 1, 2)
         for a in axes:
             if not (np.isfinite(lo[a]) and np.isfinite(hi[a])):

@@ -7,7 +7,8 @@ contains it; otherwise to the first fluid region that contains it; otherwise
 it stays empty. So fluid never overlaps a solid and the closest fluid-wall
 pair is one spacing apart, whatever the shapes.
 
-Walls are the solid nodes near the space the fluid can reach:
+Walls are the solid nodes near the space the fluid can reach (a `Tank` is
+a shell exactly as thick as its layers, kept whole, corners included):
 
 * **dynamic boundary particles** (several layers): the solid nodes whose
   Euclidean distance to the nearest non-solid node is below the kernel
@@ -219,7 +220,9 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
                 for k, s in enumerate(solids):
                     if not dynamic[k]:
                         continue
-                    if s.layers is None:
+                    if getattr(s.shape, "shell", False):
+                        keep |= own == k  # a shell (tank) is exactly as thick as its layers: all of it
+                    elif s.layers is None:
                         keep |= (own == k) & (d_e < support_ratio - 1e-6)
                     else:
                         if d_c is None:

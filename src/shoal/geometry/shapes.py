@@ -21,7 +21,7 @@ Units are metres; x along the flume (cross-shore), y lateral, z up.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Callable, Literal, Union
+from typing import Annotated, Callable, ClassVar, Literal, Union
 
 import numpy as np
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator,
@@ -113,6 +113,8 @@ class Tank(Shape):
     lo: Vec3
     hi: Vec3
     open: list[Face] = ["top"]
+
+    shell: ClassVar[bool] = True  # the generator keeps all of it (its thickness is its layers)
 
     @field_validator("open")
     @classmethod
