@@ -56,3 +56,15 @@ def test_half_width_and_repulsive_cases_check_but_do_not_run():
 def test_unknown_case_parameter_is_named():
     with pytest.raises(InputError, match="no parameter 'speed'.*inflow_speed"):
         get_case("tidal-bore", speed=0.3)
+
+
+def test_run_writes_a_resolved_case_that_runs_again(tmp_path):
+    from shoal import Simulation, load_case, run_case
+
+    case = get_case("still-water-2d", dp=0.05, end_time=0.01)
+    res = run_case(case, tmp_path / "a", plot=False, max_steps=2)
+    again = load_case(tmp_path / "a" / "case.toml")
+    assert again.resolved() == case.resolved()
+    np.testing.assert_array_equal(again.particles().positions, case.particles().positions)
+    sim = Simulation(again).run(max_steps=2)  # a Case runs directly, to its own end_time
+    assert sim.end_time == case.end_time and sim.step_count == 2 == res.steps

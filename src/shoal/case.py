@@ -49,10 +49,17 @@ Options = Annotated[SPHOptions, BeforeValidator(SPHOptions.from_table)]
 
 class Domain(Spec):
     """The computational box [lo, hi] [m]: particles leaving it are removed
-    from the computation (and counted). y is ignored in 2D."""
+    from the computation (and counted). y is ignored in 2D.
+
+    `periodic` names the periodic axes ("x"; "y" in 3D): along them the box
+    is one period (a whole number of particle spacings), the neighbour
+    search wraps round, and a particle leaving through one face re-enters
+    through the other.
+    """
 
     lo: Vec3
     hi: Vec3
+    periodic: list[Literal["x", "y"]] = []
 
     @model_validator(mode="after")
     def _order(self):
@@ -208,6 +215,8 @@ class Case(BaseModel):
             if s.motion is not None and s.motion not in names:
                 allowed = ", ".join(names) if names else "none defined"
                 raise ValueError(f"solids[{i}].motion = {s.motion!r} names no motion (motions: {allowed})")
+        if self.domain is not None and "y" in self.domain.periodic and self.dim == 2:
+            raise ValueError("domain.periodic = ['y'] is not allowed in 2D (the x-z plane); use ['x']")
         if self.fluid.depth is None and self.fluid.u_max is None:
             raise ValueError("fluid needs a depth (m) or a u_max (m/s) to set the speed of sound")
         return self

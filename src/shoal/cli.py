@@ -83,7 +83,9 @@ def _case_args(r):
     r.add_argument("--kernel", choices=["wendland", "cubic"], default=None)
     r.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="a parameter of a built-in case (repeatable), e.g. --param inflow_speed=0.7 "
-                        "--param half=true (see `shoal cases`)")
+                        "(see `shoal cases`)")
+    r.add_argument("--half", action="store_true",
+                   help="tidal-bore cases: model half the width with a symmetry plane (--param half=true)")
 
 
 def _parse_params(items):
@@ -111,6 +113,8 @@ def _make_case(args):
     from .cases import CASES, get_case
 
     params = _parse_params(getattr(args, "param", []))
+    if getattr(args, "half", False):
+        params["half"] = True
     if _is_file(args.case):
         from .casefile import load_case
 

@@ -61,13 +61,17 @@ class Model:
         Prescribed motions (:mod:`shoal.motions`) of the moving boundaries.
     motion_of : (N,) int array, optional
         Index into `motions` of each moving particle (-1 for the others).
+    periodic : sequence of {"x", "y"}
+        Periodic axes: the domain's extent along each is the period; the
+        neighbour search wraps round and particles crossing a face re-enter
+        at the opposite one.
     backend : str
         "cpu" (default).
     """
 
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
-                 velocities=None, motions=None, motion_of=None, backend="cpu"):
+                 velocities=None, motions=None, motion_of=None, periodic=(), backend="cpu"):
         options = options or SPHOptions()
         if dim not in (2, 3):
             raise InputError(f"dim = {dim!r}; allowed 2 or 3")
@@ -84,7 +88,13 @@ class Model:
         self.dim = dim
         self.dp = float(dp)
         self.options = options
-        self.spec = SchemeSpec.from_options(options, dim)
+        periodic = tuple(periodic or ())
+        for a in periodic:
+            if a not in ("x", "y") or (a == "y" and dim == 2):
+                raise InputError(f"periodic axis {a!r} is not allowed; use 'x'" + (" or 'y'" if dim == 3 else
+                                                                                " (2D runs are in the x-z plane)"))
+        self.periodic = periodic
+        self.spec = SchemeSpec.from_options(options, dim, periodic)
         self.dtype = options.dtype
         self.rho0 = float(rho0)
         self.gravity = np.asarray(gravity, dtype=np.float64)
@@ -99,8 +109,17 @@ class Model:
         self.c0 = options.coef_sound * self.u_max
         self.B = self.c0**2 * self.rho0 / GAMMA
         self.mass = self.rho0 * self.dp**dim
+        lo3 = np.asarray(domain[0], dtype=np.float64)
+        hi3 = np.asarray(domain[1], dtype=np.float64)
+        periods = [hi3[k] - lo3[k] if a in periodic else 0.0 for k, a in ((0, "x"), (1, "y"))]
+        for L, a in zip(periods, "xy"):
+            if L and abs(L / self.dp - round(L / self.dp)) > 1e-6:
+                raise InputError(f"the periodic length along {a} is {L:.6g} m, not a whole number of particle "
+                                 f"spacings dp = {self.dp:g} m: the lattice would not join up across the period")
+        self._period_lo = (float(lo3[0]), float(lo3[1]))
         self.params = make_params(self.spec, dp=self.dp, h=self.h, rho0=self.rho0, c0=self.c0, gamma=GAMMA,
-                                  gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass)
+                                  gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass,
+                                  periods=periods)
         self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
 
         cols = [0, 1, 2] if dim == 3 else [0, 2]
@@ -109,7 +128,9 @@ class Model:
         n = len(positions)
         self.n_total = n
         self.backend = b = get_backend(backend, self.spec)
-        self.grid = b.make_grid(lo, hi, 2.0 * self.h, options.cells_per_support, n)
+        flags = [("x" in periodic), ("y" in periodic)] + ([False] if dim == 3 else [])
+        self.grid = b.make_grid(lo, hi, 2.0 * self.h, options.cells_per_support, n,
+                                periodic=flags if dim == 3 else [flags[0], False])
         F = self.dtype
         vel = np.zeros((n, 3)) if velocities is None else np.asarray(velocities, dtype=np.float64)
         rho = np.full(n, self.rho0)
@@ -210,6 +231,9 @@ class Model:
         Particles outside the domain go to the end and leave the computation.
         """
         n_before = self.n
+        if self.periodic:
+            b = self.backend
+            b.timed(b.wrap_periodic, n_before, (self.pos, self._period_lo[0], self._period_lo[1], self.P))
         n = self.grid.bin(self.pos, n_before)
         arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, *self.extra_arrays]
         self.grid.reorder(arrays, n_before, self.scratch)

@@ -124,5 +124,5 @@ class CPUBackend:
         dst[:n] = src[:n]
 
     @staticmethod
-    def make_grid(lo, hi, support, cells_per_support, capacity):
-        return CellGrid(lo, hi, support, cells_per_support, capacity)
+    def make_grid(lo, hi, support, cells_per_support, capacity, periodic=None):
+        return CellGrid(lo, hi, support, cells_per_support, capacity, periodic=periodic)

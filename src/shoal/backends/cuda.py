@@ -187,10 +187,10 @@ class CUDABackend:
             dst[:n].copy_to_device(src[:n])
 
     @staticmethod
-    def make_grid(lo, hi, support, cells_per_support, capacity):
+    def make_grid(lo, hi, support, cells_per_support, capacity, periodic=None):
         from ..neighbours.cuda_grid import CudaCellGrid
 
         # the simulator runs a Python thread per CUDA thread and is slow at barriers:
         # small blocks there (same kernels, same results), 256 on a GPU
         block = 32 if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1" else 256
-        return CudaCellGrid(lo, hi, support, cells_per_support, capacity, block_size=block)
+        return CudaCellGrid(lo, hi, support, cells_per_support, capacity, block_size=block, periodic=periodic)

@@ -12,6 +12,10 @@
   tensile correction, h = sqrt(3) dp, c0 = 20 sqrt(g H), alpha = 0.1,
   Fourtakas diffusion delta = 0.1, one layer of dynamic boundary
   particles, Verlet with an Euler step every 40 steps, CFL 0.2.
+
+Run time on 2 cores: `dam-break-2d` at its default dp = 0.003 m (6,376
+particles, to T = 3.5) about 40 s; `dam-break-3d` at dp = 0.008 m a few
+minutes; `dam-break-dualsphysics` (173,531 particles) 0.23 s per step.
 """
 
 from __future__ import annotations

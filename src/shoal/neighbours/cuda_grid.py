@@ -364,11 +364,12 @@ class CudaCellGrid:
     a host array of ncell + 2 int32.
     """
 
-    def __init__(self, lo, hi, support, cells_per_support, capacity, block_size=DEFAULT_BLOCK, stream=0):
+    def __init__(self, lo, hi, support, cells_per_support, capacity, block_size=DEFAULT_BLOCK, stream=0,
+                 periodic=None):
         block_size = int(block_size)
         if block_size < 32 or block_size > 512 or block_size & (block_size - 1):
             raise ValueError(f"block_size must be a power of two in [32, 512], got {block_size}")
-        ref = CellGrid(lo, hi, support, cells_per_support, 0)
+        ref = CellGrid(lo, hi, support, cells_per_support, 0, periodic=periodic)
         self.dim = ref.dim
         self.n = ref.n
         self.cell_size = ref.cell_size

@@ -11,6 +11,12 @@ a few steps' displacement of still water). Every pair within the support
 2h is passed to ``pair``,
 which folds it into an accumulator tuple (written once, used by the rates,
 the filters and the probes, on every backend).
+
+Periodic axes (x, and y in 3D): the cell grid tiles the period exactly
+(see `CellGrid`), and a stencil that runs off one side continues on the
+other with the neighbour's image shifted by the period L:
+r_i - (r_j -+ L). With periodic x, each row is scanned as up to three
+contiguous segments (the main one and the wrapped ones).
 """
 
 
@@ -33,6 +39,8 @@ def make_gather(jit, spec, pair):
     dim = spec.dim
     F = spec.float_type
     zero = F(0.0)
+    if spec.periodic:
+        return _make_periodic_gather(jit, spec, pair)
 
     if dim == 3:
         @jit
@@ -78,5 +86,71 @@ def make_gather(jit, spec, pair):
                     if r2 < supp2 and j != i:
                         acc = pair(acc, own, j, dx, zero, dz, r2, data, P)
             return acc
+
+    return gather
+
+
+def _make_periodic_gather(jit, spec, pair):
+    n = spec.cells_per_support
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    px = bool(spec.periodic & 1)
+    py = bool(spec.periodic & 2) and dim == 3
+
+    @jit
+    def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+        nx, ny, nz = gdims
+        c = cell[i]
+        ix = c % nx
+        t = c // nx
+        iy = t % ny
+        iz = t // ny
+        xi = pos[i, 0]
+        zi = pos[i, dim - 1]
+        yi = pos[i, 1] if dim == 3 else 0.0
+        supp2 = P.supp2
+        lx = P.per_len_x
+        ly = P.per_len_y
+        for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+            for oy in range(-n, n + 1) if dim == 3 else range(0, 1):
+                y = iy + oy
+                yshift = 0.0
+                if y < 0:
+                    if not py:
+                        continue
+                    y += ny
+                    yshift = ly
+                elif y >= ny:
+                    if not py:
+                        continue
+                    y -= ny
+                    yshift = -ly
+                row = nx * (y + ny * z)
+                for seg in range(3):
+                    if seg == 0:
+                        a = max(ix - n, 0)
+                        b = min(ix + n, nx - 1)
+                        xshift = 0.0
+                    elif seg == 1:  # off the low end: cells at the high end, images at x - L
+                        if not px or ix - n >= 0:
+                            continue
+                        a = nx + ix - n
+                        b = nx - 1
+                        xshift = lx
+                    else:  # off the high end: cells at the low end, images at x + L
+                        if not px or ix + n <= nx - 1:
+                            continue
+                        a = 0
+                        b = ix + n - nx
+                        xshift = -lx
+                    for j in range(cell_start[row + a], cell_start[row + b + 1]):
+                        dx = F(xi - pos[j, 0] + xshift)
+                        dz = F(zi - pos[j, dim - 1])
+                        dy = F(yi - pos[j, 1] + yshift) if dim == 3 else zero
+                        r2 = dx * dx + dy * dy + dz * dz
+                        if r2 < supp2 and j != i:
+                            acc = pair(acc, own, j, dx, dy, dz, r2, data, P)
+        return acc
 
     return gather

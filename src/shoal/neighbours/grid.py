@@ -100,9 +100,12 @@ class CellGrid:
         Cells per support radius (cell size = support / cells_per_support).
     capacity : int
         Number of particles the work arrays are sized for.
+    periodic : sequence of bool, optional
+        Periodic axes: their length is cut into whole cells (at least
+        2n + 1), and the gather wraps round (see `neighbours.gather`).
     """
 
-    def __init__(self, lo, hi, support, cells_per_support, capacity):
+    def __init__(self, lo, hi, support, cells_per_support, capacity, periodic=None):
         lo = np.asarray(lo, dtype=np.float64)
         hi = np.asarray(hi, dtype=np.float64)
         if lo.shape != hi.shape or lo.ndim != 1 or lo.size not in (2, 3):
@@ -113,6 +116,16 @@ class CellGrid:
         self.n = int(cells_per_support)
         self.cell_size = float(support) / self.n
         dims = np.maximum(np.ceil((hi - lo) / self.cell_size).astype(np.int64), 1)
+        self.periodic = np.zeros(self.dim, bool) if periodic is None else np.asarray(periodic, bool)
+        for d in np.flatnonzero(self.periodic):
+            # a periodic axis is tiled by whole cells (the last one up to 2x wider), so the
+            # stencil that wraps round still covers the support; it needs 2n + 1 distinct cells
+            dims[d] = int(np.floor((hi[d] - lo[d]) / self.cell_size + 1e-9))
+            if dims[d] < 2 * self.n + 1:
+                raise InputError(
+                    f"the periodic length {hi[d] - lo[d]:.4g} m along {'xyz'[d] if self.dim == 3 else 'xz'[d]} is "
+                    f"too short for the kernel support: it must be at least {(2 * self.n + 1) * self.cell_size:.4g} m "
+                    f"({2 * self.n + 1} cells of {self.cell_size:.4g} m)")
         ncell = int(np.prod(dims))
         if ncell > MAX_CELLS:
             raise InputError(

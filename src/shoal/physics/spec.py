@@ -35,9 +35,12 @@ class SchemeSpec:
     tensile: bool
     xsph: bool
     cells_per_support: int
+    periodic: int = 0
+    """Periodic axes as a bit mask of the stored axes: 1 = x, 2 = y (3D only)."""
 
     @classmethod
-    def from_options(cls, options, dim):
+    def from_options(cls, options, dim, periodic=()):
+        mask = (1 if "x" in periodic else 0) | (2 if "y" in periodic else 0)
         return cls(
             dim=int(dim),
             precision=options.precision,
@@ -47,13 +50,15 @@ class SchemeSpec:
             tensile=bool(options.tensile_correction),
             xsph=options.xsph > 0,
             cells_per_support=int(options.cells_per_support),
+            periodic=mask,
         )
 
     @property
     def key(self):
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
-                f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}")
+                f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
+                f"-p{self.periodic}")
 
     @property
     def float_type(self):
@@ -68,6 +73,7 @@ Params = namedtuple("Params", [
     "mass_f", "mass_b",
     "gx", "gy", "gz",
     "xsph_eps",
+    "per_len_x", "per_len_y",
     "dim",
 ])
 """Run-time constants of a kernel, all in the working precision.
@@ -81,7 +87,9 @@ hydrostatic density difference, linearised EOS). alpha: artificial
 viscosity; nu4 = 4 nu [m^2/s]; ddt_coef = 2 delta h c0. mass_f, mass_b:
 fluid and boundary particle masses [kg]. gx, gy, gz: gravity [m/s^2] in the
 internal components (2D runs store (x, z) and use gx, gz). xsph_eps: XSPH
-epsilon. dim: the dimension (an int, which also keeps the tuple heterogeneous:
+epsilon. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
+they shift float64 position differences; 0 when not periodic). dim: the
+dimension (an int, which also keeps the tuple heterogeneous:
 Numba's parallel loops reject homogeneous named tuples as loop arguments).
 """
 
@@ -94,7 +102,8 @@ def params_dtype(spec):
     turn it into a `Params` tuple with `make_unpack`.
     """
     F = spec.float_type
-    return np.dtype([(name, np.int64 if name == "dim" else F) for name in Params._fields])
+    wide = {"dim": np.int64, "per_len_x": np.float64, "per_len_y": np.float64}
+    return np.dtype([(name, wide.get(name, F)) for name in Params._fields])
 
 
 def params_array(spec, params):
@@ -116,7 +125,7 @@ def make_unpack(jit):
         return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
                       r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
                       r["ddt_coef"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
-                      r["dim"])
+                      r["per_len_x"], r["per_len_y"], r["dim"])
 
     return unpack
 
@@ -132,7 +141,7 @@ def kernel_normalisation(kernel, dim, h):
     return 10.0 / (7.0 * math.pi * h**2) if dim == 2 else 1.0 / (math.pi * h**3)
 
 
-def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b):
+def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, periods=(0.0, 0.0)):
     """Build `Params` for a run, cast to the working precision."""
     F = spec.float_type
     aw = kernel_normalisation(spec.kernel, spec.dim, h)
@@ -156,4 +165,5 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
         alpha=options.alpha, nu4=4.0 * options.nu, ddt_coef=2.0 * options.delta * h * c0,
         mass_f=mass_f, mass_b=mass_b, gx=gx, gy=gy, gz=gz, xsph_eps=options.xsph,
     )
-    return Params(**{k: F(v) for k, v in vals.items()}, dim=int(spec.dim))
+    return Params(**{k: F(v) for k, v in vals.items()}, per_len_x=float(periods[0]), per_len_y=float(periods[1]),
+                  dim=int(spec.dim))

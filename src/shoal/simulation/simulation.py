@@ -28,17 +28,32 @@ class Simulation:
 
     Parameters
     ----------
-    model : Model
-    end_time : float
-        Simulated time to reach [s].
+    model : Model or Case
+        A Case is turned into its Model on `backend` (particles generated,
+        scheme compiled).
+    end_time : float, optional
+        Simulated time to reach [s] (default: the case's end_time).
     dt_floor_ratio : float
         The run stops as unstable if dt falls below this fraction of the
         first step's dt.
     check_every : int
         Steps between NaN / density checks.
+    backend : str
+        Backend of the Model built from a Case ("cpu" or "cuda").
     """
 
-    def __init__(self, model, end_time, dt_floor_ratio=1e-3, check_every=1):
+    def __init__(self, model, end_time=None, dt_floor_ratio=1e-3, check_every=1, backend="cpu"):
+        from ..case import Case
+
+        if isinstance(model, Case):
+            from ..runner import build_model
+
+            self.case = model
+            if end_time is None:
+                end_time = model.end_time
+            model = build_model(model, backend)
+        if end_time is None:
+            raise TypeError("Simulation(model, end_time): give the end time [s] (or pass a Case)")
         self.model = model
         self.end_time = float(end_time)
         self.integrator = make_integrator(model)

@@ -121,5 +121,26 @@ def make_updates(jit, spec, unpack):
                 pos[i, d] = pos_init[p, d] + disp[m, d]
                 vel[i, d] = mvel[m, d]
 
-    return dict(verlet=verlet, save_state=save_state, half_step=half_step,
+    px = bool(spec.periodic & 1)
+    py = bool(spec.periodic & 2) and dim == 3
+
+    @jit
+    def wrap_periodic(i, pos, lo_x, lo_y, Parr):
+        """Bring a particle that crossed a periodic face back by one period:
+        x -> x - L if x >= lo + L, x -> x + L if x < lo."""
+        P = unpack(Parr)
+        if px:
+            x = pos[i, 0]
+            if x >= lo_x + P.per_len_x:
+                pos[i, 0] = x - P.per_len_x
+            elif x < lo_x:
+                pos[i, 0] = x + P.per_len_x
+        if py:
+            y = pos[i, 1]
+            if y >= lo_y + P.per_len_y:
+                pos[i, 1] = y - P.per_len_y
+            elif y < lo_y:
+                pos[i, 1] = y + P.per_len_y
+
+    return dict(wrap_periodic=wrap_periodic, verlet=verlet, save_state=save_state, half_step=half_step,
                 symplectic_correct=symplectic_correct, pc_correct=pc_correct, move_bodies=move_bodies)
