@@ -319,6 +319,13 @@ class Model:
         else:
             out[:, 0] = p[:, 0]
             out[:, 2] = p[:, 1]
+        # a particle that crossed a periodic face in the last step is wrapped at the next sort;
+        # report it inside the period already
+        for k, a in ((0, "x"), (1, "y")):
+            if a in self.periodic:
+                L = self.params.per_len_x if a == "x" else self.params.per_len_y
+                lo = self._period_lo[k]
+                out[:, k] = lo + np.mod(out[:, k] - lo, L)
         return out
 
     def world_velocities(self):
