@@ -30,7 +30,8 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
     float [dim], float, int32, int8); the grid's cell, permutation and key
     (3 int32); the integrator's saved state (symplectic and
     predictor-corrector: positions float64 [dim], velocity [dim], density;
-    Verlet: velocity [dim], density); with moving bodies, their initial
+    Verlet: velocity [dim], density); with SPS turbulence, the stress (3
+    components in 2D, 6 in 3D); with moving bodies, their initial
     positions float64 [dim] and motion index (int32). Plus 4 bytes per grid
     cell.
     """
@@ -41,6 +42,11 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
         per += f * dim
     else:
         fixed += f * dim  # a one-row placeholder
+    ntau = 3 if dim == 2 else 6
+    if options.turbulence == "sps":
+        per += f * ntau  # tau / rho^2
+    else:
+        fixed += f * ntau
     if moving:
         per += 8 * dim + 4
     per += 8 * dim + f * dim + f + 4 + 1

@@ -19,6 +19,7 @@ KERNELS = ("wendland", "cubic")
 VISCOSITIES = ("artificial", "laminar")
 DENSITY_DIFFUSIONS = ("none", "molteni", "fourtakas")
 INTEGRATORS = ("verlet", "symplectic", "predictor_corrector")
+TURBULENCE = ("none", "sps")
 PRECISIONS = ("float32", "float64")
 
 
@@ -68,6 +69,14 @@ class SPHOptions:
     xsph : float
         XSPH velocity-correction coefficient epsilon (Monaghan 1989);
         0 disables it; 0.5 in the tidal-bore paper.
+    turbulence : {"none", "sps"}
+        Sub-particle-scale (SPS) turbulence: a Smagorinsky eddy viscosity
+        nu_t = (Cs dp)^2 |S| in the SPS stress tensor of Dalrymple & Rogers
+        (2006) (Gotoh et al. 2001), as in both papers.
+    sps_cs : float
+        Smagorinsky constant Cs (0.12).
+    sps_ci : float
+        Isotropic (Yoshizawa) coefficient C_I (0.0066).
     tensile_correction : bool
         Monaghan (2000) tensile-instability correction (used with the cubic
         spline in DualSPHysics).
@@ -112,6 +121,9 @@ class SPHOptions:
     density_diffusion: str = "fourtakas"
     delta: float = 0.1
     xsph: float = 0.0
+    turbulence: str = "none"
+    sps_cs: float = 0.12
+    sps_ci: float = 0.0066
     tensile_correction: bool = False
     shepard_every: int = 0
     mls_every: int = 0
@@ -128,6 +140,9 @@ class SPHOptions:
         _choice("density_diffusion", self.density_diffusion, DENSITY_DIFFUSIONS)
         _choice("integrator", self.integrator, INTEGRATORS)
         _choice("precision", self.precision, PRECISIONS)
+        _choice("turbulence", self.turbulence, TURBULENCE)
+        _positive("sps_cs", self.sps_cs, allow_zero=True)
+        _positive("sps_ci", self.sps_ci, allow_zero=True)
         _positive("coef_h", self.coef_h)
         _positive("coef_sound", self.coef_sound)
         _positive("alpha", self.alpha, allow_zero=True)

@@ -3,14 +3,15 @@
 `attach_loops` compiles the per-particle functions of `shoal.physics` and
 `shoal.timestepping.updates` with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
-(``pr2``, ``rates``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
+(``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
 ``half_step``, ``symplectic_correct``, ``pc_correct``) from one source.
 """
 
 from ..physics import build_physics
 from ..timestepping.updates import make_updates
 
-PHYSICS_LOOPS = {"pr2": "particle_pr2", "rates": "particle_rates", "shepard": "shepard", "mls": "mls"}
+PHYSICS_LOOPS = {"pr2": "particle_pr2", "rates": "particle_rates", "shepard": "shepard", "mls": "mls",
+                 "sps": "particle_sps"}
 
 
 def attach_loops(backend, jit, for_each, spec, target):

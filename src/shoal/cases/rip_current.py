@@ -44,9 +44,9 @@ from ..motions import PistonWavemaker
 from ..options import SPHOptions
 from ._checks import check_count, check_dp, check_positive
 
-PAPER_OPTIONS = dict(kernel="wendland", shepard_every=20, density_diffusion="none", alpha=0.1)
-"""The paper's scheme as far as shoal has it (SPS turbulence and Monaghan-Kajtar
-boundaries arrive with the boundaries issue)."""
+PAPER_OPTIONS = dict(kernel="wendland", shepard_every=20, density_diffusion="none", alpha=0.1, turbulence="sps")
+"""The paper's scheme: Wendland kernel, Shepard filter every 20 steps, SPS turbulence
+(its Monaghan-Kajtar boundaries: ``boundary="repulsive"``, not yet in the solver)."""
 
 
 def rip_current_bed(crest_x=12.4, slope_start=6.0, bar_height=0.13, bar_length=4.8, bar_slope=1 / 27,

@@ -4,7 +4,8 @@
 with the given decorator: ``numba.njit`` for the CPU backend (a ``prange``
 loop calls them) or ``numba.cuda.jit(device=True)`` for the CUDA backend
 (one thread per particle calls them). Each concern lives in its own module:
-`kernels`, `eos`, `viscosity`, `density_diffusion`, `rates`, `filters`.
+`kernels`, `eos`, `viscosity`, `density_diffusion`, `turbulence`, `rates`,
+`filters`.
 """
 
 from types import SimpleNamespace
@@ -16,6 +17,7 @@ from .filters import make_filters
 from .kernels import make_kernels
 from .rates import make_rates
 from .spec import FIXED, FLUID, MOVING, Params, SchemeSpec, make_params, make_unpack
+from .turbulence import make_sps
 from .viscosity import make_viscosity
 
 __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIXED", "MOVING"]
@@ -55,6 +57,7 @@ def build_physics(jit, spec, target="cpu"):
     particle_pr2, particle_rates = make_rates(j, spec, (w, grad_factor), pressure, viscous, diffusion,
                                               make_gather, unpack)
     shepard, mls = make_filters(j, spec, (w, grad_factor), make_gather, unpack)
+    particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
-                           named_jit=j, unpack=unpack)
+                           particle_sps=particle_sps, named_jit=j, unpack=unpack)

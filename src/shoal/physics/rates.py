@@ -8,6 +8,8 @@ Momentum with the symmetric pressure term, viscosity and gravity:
 (R_ij the Monaghan (2000) tensile correction when enabled, Pi_ij the
 artificial and lam_ij the laminar viscous term, see `viscosity`.)
 XSPH (Monaghan 1989): dx_i/dt = v_i + eps sum_j (m_j / rho_ij) v_ji W_ij.
+SPS turbulence (when on): + sum_j m_j (tau_i/rho_i^2 + tau_j/rho_j^2) . grad_i W_ij
+between fluid particles, tau from `turbulence` (Dalrymple & Rogers 2006).
 
 Dynamic boundary particles (Crespo, Gomez-Gesteira & Dalrymple 2007) obey
 the continuity equation with their fluid neighbours and the equation of
@@ -23,7 +25,9 @@ from .spec import FLUID
 
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack):
     """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
-    grid_dims, Parr, ace, drho, xsph, vmax)``, which writes particle i's rates.
+    grid_dims, Parr, ace, drho, xsph, vmax, tau)``, which writes particle i's rates.
+
+    `tau` holds tau / rho^2 of the SPS stress (read only when the scheme has SPS).
 
     `Parr` is the `Params` record array, `grid_dims` the (nx, ny, nz) array.
 
@@ -36,13 +40,14 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     w, grad_factor = kernels
     tensile = spec.tensile
     use_xsph = spec.xsph
+    use_sps = spec.sps
     t_pos, t_neg = F(0.01), F(-0.2)
 
     @jit
     def fluid_pair(acc, own, j, dx, dy, dz, r2, data, P):
         ax, ay, az, dr, xx, xy, xz, vmax = acc
-        vix, viy, viz, rhoi, pr2i, ti = own
-        vel, rho, pr2, kind = data
+        vix, viy, viz, rhoi, pr2i, ti, t0, t1, t2, t3, t4, t5 = own
+        vel, rho, pr2, kind, tau = data
         r = r2 ** F(0.5)
         q = r * P.inv_h
         fr = grad_factor(q, P)
@@ -71,6 +76,20 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         ax += f * dx + lam * ux
         ay += f * dy + lam * uy
         az += f * dz + lam * uz
+        if use_sps:
+            if is_fluid:
+                # (tau_i/rho_i^2 + tau_j/rho_j^2) . grad W, grad W = fr r_ij
+                c = mj * fr
+                if dim == 3:
+                    sxx, sxy, sxz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
+                    syy, syz, szz = t3 + tau[j, 3], t4 + tau[j, 4], t5 + tau[j, 5]
+                    ax += c * (sxx * dx + sxy * dy + sxz * dz)
+                    ay += c * (sxy * dx + syy * dy + syz * dz)
+                    az += c * (sxz * dx + syz * dy + szz * dz)
+                else:
+                    sxx, sxz, szz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
+                    ax += c * (sxx * dx + sxz * dz)
+                    az += c * (sxz * dx + szz * dz)
         vmax = max(vmax, abs(P.h * vdotr / (r2 + P.eta2)))
         if use_xsph:
             if is_fluid:
@@ -83,7 +102,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     @jit
     def bound_pair(acc, own, j, dx, dy, dz, r2, data, P):
         vix, viy, viz = own
-        vel, rho, pr2, kind = data
+        vel, rho, pr2, kind, tau = data
         if kind[j] != FLUID:
             return acc
         q = r2 ** F(0.5) * P.inv_h
@@ -104,17 +123,25 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     gather_bound = make_gather(jit, spec, bound_pair)
 
     @jit
-    def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax):
+    def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax,
+                       tau):
         P = unpack(Parr)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         vix = vel[i, 0]
         viz = vel[i, dim - 1]
         viy = vel[i, 1] if dim == 3 else zero
-        data = (vel, rho, pr2, kind)
+        data = (vel, rho, pr2, kind, tau)
         if kind[i] == FLUID:
             pr2i = pr2[i]
             ti = pr2i * (t_pos if pr2i > zero else t_neg)
-            own = (vix, viy, viz, rho[i], pr2i, ti)
+            if use_sps:
+                if dim == 3:
+                    own = (vix, viy, viz, rho[i], pr2i, ti, tau[i, 0], tau[i, 1], tau[i, 2], tau[i, 3], tau[i, 4],
+                           tau[i, 5])
+                else:
+                    own = (vix, viy, viz, rho[i], pr2i, ti, tau[i, 0], tau[i, 1], tau[i, 2], zero, zero, zero)
+            else:
+                own = (vix, viy, viz, rho[i], pr2i, ti, zero, zero, zero, zero, zero, zero)
             acc = (zero, zero, zero, zero, zero, zero, zero, zero)
             ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
             ace[i, 0] = ax + P.gx

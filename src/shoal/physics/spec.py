@@ -37,6 +37,8 @@ class SchemeSpec:
     cells_per_support: int
     periodic: int = 0
     """Periodic axes as a bit mask of the stored axes: 1 = x, 2 = y (3D only)."""
+    sps: bool = False
+    """SPS turbulence (Dalrymple & Rogers 2006)."""
 
     @classmethod
     def from_options(cls, options, dim, periodic=()):
@@ -51,6 +53,7 @@ class SchemeSpec:
             xsph=options.xsph > 0,
             cells_per_support=int(options.cells_per_support),
             periodic=mask,
+            sps=options.turbulence == "sps",
         )
 
     @property
@@ -58,7 +61,7 @@ class SchemeSpec:
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
-                f"-p{self.periodic}")
+                f"-p{self.periodic}-s{int(self.sps)}")
 
     @property
     def float_type(self):
@@ -73,6 +76,7 @@ Params = namedtuple("Params", [
     "mass_f", "mass_b",
     "gx", "gy", "gz",
     "xsph_eps",
+    "sps_smag", "sps_blin",
     "per_len_x", "per_len_y",
     "dim",
 ])
@@ -87,7 +91,8 @@ hydrostatic density difference, linearised EOS). alpha: artificial
 viscosity; nu4 = 4 nu [m^2/s]; ddt_coef = 2 delta h c0. mass_f, mass_b:
 fluid and boundary particle masses [kg]. gx, gy, gz: gravity [m/s^2] in the
 internal components (2D runs store (x, z) and use gx, gz). xsph_eps: XSPH
-epsilon. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
+epsilon. sps_smag = (Cs dp)^2 [m^2], sps_blin = (2/3) C_I dp^2 [m^2]: SPS
+turbulence. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
 they shift float64 position differences; 0 when not periodic). dim: the
 dimension (an int, which also keeps the tuple heterogeneous:
 Numba's parallel loops reject homogeneous named tuples as loop arguments).
@@ -125,7 +130,7 @@ def make_unpack(jit):
         return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
                       r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
                       r["ddt_coef"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
-                      r["per_len_x"], r["per_len_y"], r["dim"])
+                      r["sps_smag"], r["sps_blin"], r["per_len_x"], r["per_len_y"], r["dim"])
 
     return unpack
 
@@ -164,6 +169,7 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
         rho0=rho0, inv_rho0=1.0 / rho0, B=B, c0=c0, rho0_c02=rho0 / (c0 * c0),
         alpha=options.alpha, nu4=4.0 * options.nu, ddt_coef=2.0 * options.delta * h * c0,
         mass_f=mass_f, mass_b=mass_b, gx=gx, gy=gy, gz=gz, xsph_eps=options.xsph,
+        sps_smag=(options.sps_cs * dp) ** 2, sps_blin=(2.0 / 3.0) * options.sps_ci * dp * dp,
     )
     return Params(**{k: F(v) for k, v in vals.items()}, per_len_x=float(periods[0]), per_len_y=float(periods[1]),
                   dim=int(spec.dim))
