@@ -71,3 +71,43 @@ def test_moving_wall_moves_rigidly_with_its_motion(integrator):
     fixed = p0.kinds[ids] == 1
     np.testing.assert_array_equal(pos[fixed], p0.positions[ids[fixed]])
     assert model.n_escaped == 0
+
+
+@pytest.mark.parametrize("H,d", [(0.05, 0.4), (0.1, 0.25)])
+def test_solitary_piston_stroke_is_gorings(H, d):
+    """Goring (1978): the paddle travels S = 2 H / (k d) = sqrt(16 H d / 3) in total, and its
+    speed peaks at c H / (d + H) as the crest passes."""
+    from shoal.motions import SolitaryPiston
+
+    m = SolitaryPiston(name="s", height=H, depth=d)
+    end, v_end = m.kinematics(10 * m.duration)
+    # the motion starts and stops where eta = 0.2 % H: the tails miss 1 - tanh(3.8) = 0.1 % of the stroke
+    assert end[0] == pytest.approx(math.sqrt(16 * H * d / 3), rel=2e-3)
+    assert np.all(v_end == 0)
+    ts = np.linspace(0, m.duration, 4001)
+    v = np.array([m.kinematics(t)[1][0] for t in ts])
+    c = math.sqrt(9.81 * (d + H))
+    assert v.max() == pytest.approx(c * H / (d + H), rel=1e-3)
+    x = np.array([m.kinematics(t)[0][0] for t in ts])
+    np.testing.assert_allclose(np.gradient(x, ts)[1:-1], v[1:-1], atol=2e-3 * v.max())
+
+
+def test_time_series_motion(tmp_path):
+    from shoal.errors import InputError
+    from shoal.motions import TimeSeriesMotion
+
+    t = np.linspace(0, 2, 81)
+    x = 0.1 * np.sin(np.pi * t)
+    np.savetxt(tmp_path / "paddle.csv", np.column_stack([t, x]), delimiter=",", header="t,x")
+    m = TimeSeriesMotion(name="p", file=str(tmp_path / "paddle.csv"))
+    for tt in (0.3, 0.77, 1.5):
+        d, v = m.kinematics(tt)
+        assert d[0] == pytest.approx(0.1 * math.sin(math.pi * tt), abs=1e-6)
+        assert v[0] == pytest.approx(0.1 * math.pi * math.cos(math.pi * tt), abs=2e-4)
+        assert d[1] == d[2] == 0
+    assert m.kinematics(-1)[0][0] == 0 and m.kinematics(5)[0][0] == pytest.approx(x[-1])
+    (tmp_path / "bad.csv").write_text("0,1\n0,2\n")
+    with pytest.raises(InputError, match="increase"):
+        TimeSeriesMotion(name="b", file=str(tmp_path / "bad.csv")).kinematics(0.5)
+    with pytest.raises(InputError, match="not found"):
+        TimeSeriesMotion(name="b", file=str(tmp_path / "none.csv")).kinematics(0.5)

@@ -23,9 +23,10 @@ from pydantic import BaseModel, ValidationError
 from .case import Case
 from .errors import InputError
 from .geometry.shapes import SHAPES
-from .motions import ConstantVelocity, PistonWavemaker
+from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion
 
-MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker}
+MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
+           "time_series": TimeSeriesMotion}
 _TAGGED = {"shape": SHAPES, "motions": MOTIONS}
 
 

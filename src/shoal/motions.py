@@ -10,15 +10,20 @@ viscous and boundary terms.
   inflow of the tidal-bore paper).
 * `PistonWavemaker`: a piston paddle for regular waves of height H and
   period T in depth d, its stroke from Biesel's transfer function.
+* `SolitaryPiston`: a piston paddle generating a solitary wave by Goring's
+  (1978) method.
+* `TimeSeriesMotion`: displacements read from a file (t, x[, y, z]),
+  interpolated with a cubic spline (velocity its derivative).
 """
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Annotated, Literal, Union
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, PrivateAttr, ValidationInfo, field_validator
 
 from .geometry.shapes import PositiveReal, Spec, Vec3
 
@@ -119,4 +124,139 @@ class PistonWavemaker(Motion):
         return e * (r * a * math.sin(w * t)), e * (a * (dr * math.sin(w * t) + r * w * math.cos(w * t)))
 
 
-AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker], Field(discriminator="type")]
+class SolitaryPiston(Motion):
+    """A piston paddle pushing out one solitary wave of `height` H [m] in
+    water of `depth` d [m] (Goring 1978, as in DualSPHysics and GPUSPH).
+
+    The paddle follows the water under the wave:
+    dX/dt = c eta(X, t) / (d + eta(X, t)),
+    eta(x, t) = H sech^2(k (c (t - t0) - x)), k = sqrt(3 H / (4 d^3)),
+    c = sqrt(g (d + H)), integrated with RK4 from t = 0, where eta at the
+    paddle is 0.2 % of H (t0 = 3.8 / (k c)), until it is 0.2 % again. With
+    theta = k (c (t - t0) - X), dX/dtheta = eta / (k d), so the stroke is
+    S tanh(3.8) with S = 2 H / (k d) = sqrt(16 H d / 3) (0.1 % in the tails).
+    """
+
+    type: Literal["solitary"] = "solitary"
+    height: PositiveReal
+    depth: PositiveReal
+    direction: Vec3 = (1.0, 0.0, 0.0)
+    start: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
+    _table: tuple | None = PrivateAttr(default=None)
+
+    @property
+    def stroke(self):
+        """Total paddle travel S = 2 H / (k d) [m]."""
+        return 2.0 * self.height / (self.k * self.depth)
+
+    @property
+    def k(self):
+        return math.sqrt(3.0 * self.height / (4.0 * self.depth**3))
+
+    @property
+    def celerity(self):
+        return math.sqrt(_G * (self.depth + self.height))
+
+    @property
+    def duration(self):
+        """Time the paddle moves [s]: until eta at the paddle is back to 0.2 % of H,
+        (2 x 3.8 + k S) / (k c) (the paddle has moved S meanwhile)."""
+        return (2.0 * 3.8 + self.k * self.stroke) / (self.k * self.celerity)
+
+    def _eta(self, x, t):
+        t0 = 3.8 / (self.k * self.celerity)
+        return self.height / math.cosh(self.k * (self.celerity * (t - t0) - x)) ** 2
+
+    def _rate(self, x, t):
+        e = self._eta(x, t)
+        return self.celerity * e / (self.depth + e)
+
+    def _build(self):
+        n = 4000
+        T = self.duration
+        dt = T / n
+        ts = np.linspace(0.0, T, n + 1)
+        xs = np.zeros(n + 1)
+        x = 0.0
+        for i in range(n):
+            t = ts[i]
+            k1 = self._rate(x, t)
+            k2 = self._rate(x + 0.5 * dt * k1, t + 0.5 * dt)
+            k3 = self._rate(x + 0.5 * dt * k2, t + 0.5 * dt)
+            k4 = self._rate(x + dt * k3, t + dt)
+            x += dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            xs[i + 1] = x
+        self._table = (ts, xs)
+        return self._table
+
+    def kinematics(self, t):
+        ts, xs = self._table or self._build()
+        e = np.asarray(self.direction, float)
+        e = e / np.linalg.norm(e)
+        tl = t - self.start
+        if tl <= 0:
+            return np.zeros(3), np.zeros(3)
+        if tl >= ts[-1]:
+            return e * xs[-1], np.zeros(3)
+        x = float(np.interp(tl, ts, xs))
+        return e * x, e * self._rate(x, tl)
+
+
+class TimeSeriesMotion(Motion):
+    """Rigid displacement read from `file`: columns t [s], x [m] (and
+    optionally y, z), '#' comments and a header row allowed. A cubic spline
+    (scipy) interpolates the displacement; the velocity is its derivative.
+    Before the first time the body rests at the first displacement, after
+    the last at the last. Relative paths are relative to the case file.
+    """
+
+    type: Literal["time_series"] = "time_series"
+    file: str
+    scale: Annotated[float, Field(allow_inf_nan=False, strict=True)] = 1.0
+    _spline: object = PrivateAttr(default=None)
+
+    @field_validator("file")
+    @classmethod
+    def _resolve(cls, v, info: ValidationInfo):
+        base = (info.context or {}).get("base_dir")
+        p = Path(v)
+        if not p.is_absolute() and base is not None:
+            p = Path(base) / p
+        return str(p)
+
+    def _load(self):
+        from scipy.interpolate import CubicSpline
+
+        from .errors import InputError
+
+        p = Path(self.file)
+        if not p.is_file():
+            raise InputError(f"motion {self.name!r}: time-series file {self.file!r} not found")
+        try:
+            a = np.genfromtxt(p, delimiter="," if p.suffix == ".csv" else None, comments="#")
+        except ValueError as exc:
+            raise InputError(f"motion {self.name!r}: {self.file!r} could not be read: {exc}") from None
+        a = np.atleast_2d(a)
+        a = a[np.all(np.isfinite(a), axis=1)]
+        if a.ndim != 2 or a.shape[1] < 2 or a.shape[1] > 4 or len(a) < 2:
+            raise InputError(f"motion {self.name!r}: {self.file!r} must hold columns t, x[, y, z] with at least "
+                             "two rows")
+        t = a[:, 0]
+        if np.any(np.diff(t) <= 0):
+            raise InputError(f"motion {self.name!r}: the times in {self.file!r} must increase strictly")
+        d = np.zeros((len(a), 3))
+        d[:, : a.shape[1] - 1] = a[:, 1:] * self.scale
+        self._spline = (CubicSpline(t, d, axis=0, bc_type="clamped"), t[0], t[-1], d[0], d[-1])
+        return self._spline
+
+    def kinematics(self, t):
+        sp, t0, t1, d0, d1 = self._spline or self._load()
+        if t <= t0:
+            return d0.copy(), np.zeros(3)
+        if t >= t1:
+            return d1.copy(), np.zeros(3)
+        return np.asarray(sp(t), float), np.asarray(sp(t, 1), float)
+
+
+AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion],
+                      Field(discriminator="type")]
