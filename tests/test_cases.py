@@ -41,7 +41,7 @@ def test_case_builds_and_runs_a_few_steps(name):
     assert f"{model.nbytes() / 2**20:,.1f} MiB" in mem_line  # shoal check's estimate is what the run holds
 
 
-def test_half_width_and_repulsive_cases_check_but_do_not_run():
+def test_half_width_checks_but_does_not_run_and_repulsive_runs():
     half = get_case("tidal-bore", dp=0.025, half=True)
     full = get_case("tidal-bore", dp=0.025)
     assert half.particles().n_fluid * 2 == full.particles().n_fluid
@@ -49,8 +49,11 @@ def test_half_width_and_repulsive_cases_check_but_do_not_run():
         build_model(half)
     rep = get_case("rip-current", dp=0.075, boundary="repulsive")
     assert np.all(rep.particles().spacing[rep.particles().kinds != 0] == 0.075 / 2)
-    with pytest.raises(InputError, match="repulsive"):
-        build_model(rep)
+    model = build_model(rep)
+    kinds = model.host(model.kind)
+    assert set(np.unique(kinds)) == {0, 3, 4}  # fluid, repulsive fixed, repulsive moving (the paddle)
+    Simulation(model, 1.0).run(max_steps=3)
+    assert model.n == model.n_total
 
 
 def test_unknown_case_parameter_is_named():

@@ -147,6 +147,26 @@ class SymmetryPlane(Spec):
     normal: Vec3
 
 
+class DampingZone(Spec):
+    """A wave-absorbing zone (a sponge layer, as DualSPHysics's damping):
+    from the plane through `start` to the plane through `end` (normal to
+    end - start), a fluid particle a fraction f of the way in has its
+    velocity multiplied by max(1 - dt rate f^2, 0) every step, so waves
+    entering it die out without reflecting from a wall. Typical: one or two
+    wavelengths long, rate 10 1/s (raise it if waves still reflect).
+    """
+
+    start: Vec3
+    end: Vec3
+    rate: PositiveReal = 10.0
+
+    @model_validator(mode="after")
+    def _length(self):
+        if not np.linalg.norm(np.subtract(self.end, self.start)) > 0:
+            raise ValueError("end must differ from start (the zone has zero length)")
+        return self
+
+
 class Output(Spec):
     """What a run writes: particle snapshots (VTU + PVD) every `interval` s."""
 
@@ -172,6 +192,7 @@ class Case(BaseModel):
     fluids : list of FluidRegion
     motions : list of motions (see :mod:`shoal.motions`)
     symmetry_planes : list of SymmetryPlane
+    damping : list of DampingZone
     domain : Domain, optional
         Default: the particles' bounding box grown by the kernel support 2h
         on every side and by the fluid's height above.
@@ -197,6 +218,7 @@ class Case(BaseModel):
     fluids: Annotated[list[FluidRegion], Field(min_length=1)]
     motions: list[AnyMotion] = []
     symmetry_planes: list[SymmetryPlane] = []
+    damping: list[DampingZone] = []
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
     output: Output = Output()

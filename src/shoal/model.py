@@ -19,9 +19,11 @@ from .backends import get_backend
 from .errors import InputError, InstabilityError
 from .options import SPHOptions
 from .physics.eos import GAMMA
-from .physics.spec import FIXED, FLUID, MOVING, SchemeSpec, make_params, params_array
+from .physics.spec import (FIXED, FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec, make_params,
+                           params_array)
 
-KIND_NAMES = {FLUID: "fluid", FIXED: "fixed boundary", MOVING: "moving boundary"}
+KIND_NAMES = {FLUID: "fluid", FIXED: "fixed boundary", MOVING: "moving boundary",
+              REPULSIVE: "repulsive boundary", REPULSIVE_MOVING: "moving repulsive boundary"}
 
 
 class Model:
@@ -32,7 +34,9 @@ class Model:
     positions : (N, 3) array
         Initial particle positions [m] (world x, y, z; y ignored in 2D).
     kinds : (N,) int array
-        0 fluid, 1 fixed boundary, 2 moving boundary.
+        0 fluid, 1 fixed boundary, 2 moving boundary (dynamic boundary
+        particles); 3 fixed, 4 moving repulsive boundary particles (Monaghan &
+        Kajtar 2009, with K = g fluid_height).
     dp : float
         Initial particle spacing [m].
     dim : {2, 3}
@@ -94,7 +98,7 @@ class Model:
                 raise InputError(f"periodic axis {a!r} is not allowed; use 'x'" + (" or 'y'" if dim == 3 else
                                                                                 " (2D runs are in the x-z plane)"))
         self.periodic = periodic
-        self.spec = SchemeSpec.from_options(options, dim, periodic)
+        self.spec = SchemeSpec.from_options(options, dim, periodic, repulsive=bool(np.any(kinds >= REPULSIVE)))
         self.dtype = options.dtype
         self.rho0 = float(rho0)
         self.gravity = np.asarray(gravity, dtype=np.float64)
@@ -117,9 +121,15 @@ class Model:
                 raise InputError(f"the periodic length along {a} is {L:.6g} m, not a whole number of particle "
                                  f"spacings dp = {self.dp:g} m: the lattice would not join up across the period")
         self._period_lo = (float(lo3[0]), float(lo3[1]))
+        mk_k = 0.0
+        if self.spec.repulsive:
+            if fluid_height is None or g == 0:
+                raise InputError("repulsive boundary particles need gravity and a fluid depth (K = g D, "
+                                 "Monaghan & Kajtar 2009)")
+            mk_k = g * float(fluid_height) / 2.0  # K / beta, beta = dp / (dp/2)
         self.params = make_params(self.spec, dp=self.dp, h=self.h, rho0=self.rho0, c0=self.c0, gamma=GAMMA,
                                   gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass,
-                                  periods=periods)
+                                  periods=periods, mk_k=mk_k)
         self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
 
         cols = [0, 1, 2] if dim == 3 else [0, 2]
@@ -168,7 +178,7 @@ class Model:
 
     def _init_motions(self, positions, kinds, motions, motion_of):
         self.motions = list(motions or [])
-        moving = kinds == MOVING
+        moving = (kinds == MOVING) | (kinds == REPULSIVE_MOVING)
         if not moving.any():
             self.motion_of = None
             return
@@ -185,6 +195,19 @@ class Model:
         self._disp = b.asarray(self._disp_host.copy())
         self._mvel = b.asarray(self._mvel_host.copy())
         self.move_bodies(0.0)
+
+    def apply_damping(self, zones, dt):
+        """Apply the damping zones (`shoal.case.DampingZone`) over a step dt [s]."""
+        b = self.backend
+        for z in zones:
+            s0 = np.asarray(z.start, float)
+            e = np.asarray(z.end, float) - s0
+            if self.dim == 2:
+                e[1] = 0.0
+            L = float(np.linalg.norm(e))
+            e /= L
+            b.timed(b.damp, self.n, (self.pos, self.vel, self.kind, s0[0], s0[1], s0[2], e[0], e[1], e[2],
+                                     1.0 / L, float(z.rate), float(dt)))
 
     def move_bodies(self, t):
         """Place the moving boundary particles where their motions put them at time `t` [s]."""

@@ -49,11 +49,6 @@ class RunResult:
 def build_model(case, backend="cpu"):
     """The `Model` of a `Case`: generate its particles and compile the scheme."""
     p = case.particles()
-    rep = [s.name or f"solids[{i}]" for i, s in enumerate(case.solids) if s.boundary == "repulsive"]
-    if rep:
-        raise InputError(f"solid {rep[0]!r} uses boundary = 'repulsive': its particles are generated (shoal check, "
-                         "shoal plot-case) but the Monaghan-Kajtar boundary force is not in the solver yet; use "
-                         "boundary = 'dynamic'")
     if case.symmetry_planes:
         raise InputError("this case has a symmetry plane (a half-width model): its particles are generated "
                          "(shoal check, shoal plot-case) but mirror particles are not in the solver yet; "
@@ -61,8 +56,12 @@ def build_model(case, backend="cpu"):
     index = {m.name: k for k, m in enumerate(case.motions)}
     body_motion = np.array([index.get(s.motion, -1) if s.motion else -1 for s in case.solids] + [-1], np.int32)
     motion_of = np.where(p.body >= 0, body_motion[p.body], -1)
+    kinds = p.kinds.copy()
+    rep = np.array([s.boundary == "repulsive" for s in case.solids] + [False])
+    on_rep = (p.body >= 0) & rep[p.body]
+    kinds[on_rep] += 2  # 1 -> 3 (repulsive), 2 -> 4 (moving repulsive)
     fl = case.fluid
-    return Model(p.positions, p.kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
+    return Model(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
                  options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
                  surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
                  periodic=tuple(case.domain.periodic) if case.domain else (), backend=backend)
@@ -146,6 +145,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     out_dir.mkdir(parents=True, exist_ok=True)
     log = _logger(out_dir)
     sim = Simulation(model, case.end_time)
+    sim.damping = list(case.damping)
     from .casefile import write_case
 
     write_case(case, out_dir / "case.toml")

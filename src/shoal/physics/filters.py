@@ -14,7 +14,7 @@ particles carry a density), and reproduce a linear (MLS) or constant
 (Shepard) density field exactly.
 """
 
-from .spec import FLUID
+from .spec import FLUID, REPULSIVE
 
 
 def make_filters(jit, spec, kernels, make_gather, unpack):
@@ -29,6 +29,8 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     def shepard_pair(acc, own, j, dx, dy, dz, r2, data, P):
         rho, kind = data
         num, den = acc
+        if kind[j] >= REPULSIVE:
+            return acc
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         wij = mj * w(r2 ** F(0.5) * P.inv_h, P)
         return num + wij, den + wij / rho[j]
@@ -50,6 +52,8 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     def moment_pair(acc, own, j, dx, dy, dz, r2, data, P):
         rho, kind = data
         a00, a01, a02, a03, a11, a12, a13, a22, a23, a33 = acc
+        if kind[j] >= REPULSIVE:
+            return acc
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         v = mj * w(r2 ** F(0.5) * P.inv_h, P) / rho[j]
         # components of r_ij: (dx, dz) in 2D, (dx, dy, dz) in 3D
@@ -64,6 +68,8 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     def mls_rho_pair(acc, own, j, dx, dy, dz, r2, data, P):
         rho, kind = data
         b0, b1, b2, b3 = own
+        if kind[j] >= REPULSIVE:
+            return acc
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         e1 = dx
         e2 = dy if dim == 3 else dz

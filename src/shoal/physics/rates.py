@@ -16,11 +16,18 @@ the continuity equation with their fluid neighbours and the equation of
 state, and do not move by the forces; their density never drops below rho0
 (set in the integrator) so that they keep pushing fluid away.
 
+Repulsive boundary particles (Monaghan & Kajtar 2009; rip-current paper,
+Eqs. 9-10) take no part in continuity, pressure or diffusion; a fluid
+particle i feels from each one, b,
+    f_ib = (K / beta) r_ib / r_ib^2 W(q) 2 m_b / (m_i + m_b) - m_b Pi_ib grad_i W_ib,
+with K = g D, beta = dp / dp_b = 2, equal masses (as the paper) and the
+dimensionless Wendland shape W(q) = (1 - q/2)^4 (1 + 2q), W(0) = 1.
+
 The time-step limit needs max_j |h v_ij . r_ij / (r_ij^2 + eta^2)|
 (Monaghan & Kos 1999), accumulated here per particle.
 """
 
-from .spec import FLUID
+from .spec import FLUID, REPULSIVE
 
 
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack):
@@ -41,6 +48,8 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     tensile = spec.tensile
     use_xsph = spec.xsph
     use_sps = spec.sps
+    use_mk = spec.repulsive
+    two, halfq = F(2.0), F(0.5)
     t_pos, t_neg = F(0.01), F(-0.2)
 
     @jit
@@ -51,6 +60,21 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         r = r2 ** F(0.5)
         q = r * P.inv_h
         fr = grad_factor(q, P)
+        if use_mk:
+            if kind[j] >= REPULSIVE:
+                t = one - halfq * q
+                t2 = t * t
+                c = P.mk_k * t2 * t2 * (one + two * q) / r2
+                vjx = vel[j, 0]
+                vjz = vel[j, dim - 1]
+                vjy = vel[j, 1] if dim == 3 else zero
+                ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
+                vdotr = ux * dx + uy * dy + uz * dz
+                pi_ij, lam = viscous(vdotr, r2, fr, P.mass_f, rhoi, P.rho0, P)
+                f = c - P.mass_f * pi_ij * fr
+                vmax = max(vmax, abs(P.h * vdotr / (r2 + P.eta2)))
+                return (ax + f * dx + lam * ux, ay + f * dy + lam * uy, az + f * dz + lam * uz, dr, xx, xy, xz,
+                        vmax)
         vjx = vel[j, 0]
         vjz = vel[j, dim - 1]
         vjy = vel[j, 1] if dim == 3 else zero
@@ -159,6 +183,14 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                     xsph[i, 2] = P.xsph_eps * xz
                 else:
                     xsph[i, 1] = P.xsph_eps * xz
+        elif use_mk and kind[i] >= REPULSIVE:
+            for d in range(dim):
+                ace[i, d] = zero
+            drho[i] = zero
+            vmax[i] = zero
+            if use_xsph:
+                for d in range(dim):
+                    xsph[i, d] = zero
         else:
             dr = gather_bound(i, (vix, viy, viz), zero, pos, cell, cell_start, gdims, data, P)
             for d in range(dim):

@@ -15,8 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-FLUID, FIXED, MOVING = 0, 1, 2
-"""Particle kinds: fluid, fixed boundary particle, moving boundary particle."""
+FLUID, FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING = 0, 1, 2, 3, 4
+"""Particle kinds: fluid; dynamic boundary particles, fixed or moving; repulsive
+(Monaghan & Kajtar 2009) boundary particles, fixed or moving (kind >= REPULSIVE)."""
 
 KERNEL_IDS = {"wendland": 0, "cubic": 1}
 VISC_IDS = {"artificial": 0, "laminar": 1}
@@ -39,9 +40,11 @@ class SchemeSpec:
     """Periodic axes as a bit mask of the stored axes: 1 = x, 2 = y (3D only)."""
     sps: bool = False
     """SPS turbulence (Dalrymple & Rogers 2006)."""
+    repulsive: bool = False
+    """The run has Monaghan-Kajtar repulsive boundary particles."""
 
     @classmethod
-    def from_options(cls, options, dim, periodic=()):
+    def from_options(cls, options, dim, periodic=(), repulsive=False):
         mask = (1 if "x" in periodic else 0) | (2 if "y" in periodic else 0)
         return cls(
             dim=int(dim),
@@ -54,6 +57,7 @@ class SchemeSpec:
             cells_per_support=int(options.cells_per_support),
             periodic=mask,
             sps=options.turbulence == "sps",
+            repulsive=bool(repulsive),
         )
 
     @property
@@ -61,7 +65,7 @@ class SchemeSpec:
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
-                f"-p{self.periodic}-s{int(self.sps)}")
+                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}")
 
     @property
     def float_type(self):
@@ -76,7 +80,7 @@ Params = namedtuple("Params", [
     "mass_f", "mass_b",
     "gx", "gy", "gz",
     "xsph_eps",
-    "sps_smag", "sps_blin",
+    "sps_smag", "sps_blin", "mk_k",
     "per_len_x", "per_len_y",
     "dim",
 ])
@@ -92,7 +96,8 @@ viscosity; nu4 = 4 nu [m^2/s]; ddt_coef = 2 delta h c0. mass_f, mass_b:
 fluid and boundary particle masses [kg]. gx, gy, gz: gravity [m/s^2] in the
 internal components (2D runs store (x, z) and use gx, gz). xsph_eps: XSPH
 epsilon. sps_smag = (Cs dp)^2 [m^2], sps_blin = (2/3) C_I dp^2 [m^2]: SPS
-turbulence. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
+turbulence. mk_k = K / beta [m^2/s^2]: Monaghan-Kajtar boundary force,
+K = g D, beta = dp / dp_b = 2. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
 they shift float64 position differences; 0 when not periodic). dim: the
 dimension (an int, which also keeps the tuple heterogeneous:
 Numba's parallel loops reject homogeneous named tuples as loop arguments).
@@ -130,7 +135,7 @@ def make_unpack(jit):
         return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
                       r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
                       r["ddt_coef"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
-                      r["sps_smag"], r["sps_blin"], r["per_len_x"], r["per_len_y"], r["dim"])
+                      r["sps_smag"], r["sps_blin"], r["mk_k"], r["per_len_x"], r["per_len_y"], r["dim"])
 
     return unpack
 
@@ -146,7 +151,7 @@ def kernel_normalisation(kernel, dim, h):
     return 10.0 / (7.0 * math.pi * h**2) if dim == 2 else 1.0 / (math.pi * h**3)
 
 
-def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, periods=(0.0, 0.0)):
+def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, periods=(0.0, 0.0), mk_k=0.0):
     """Build `Params` for a run, cast to the working precision."""
     F = spec.float_type
     aw = kernel_normalisation(spec.kernel, spec.dim, h)
@@ -170,6 +175,7 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
         alpha=options.alpha, nu4=4.0 * options.nu, ddt_coef=2.0 * options.delta * h * c0,
         mass_f=mass_f, mass_b=mass_b, gx=gx, gy=gy, gz=gz, xsph_eps=options.xsph,
         sps_smag=(options.sps_cs * dp) ** 2, sps_blin=(2.0 / 3.0) * options.sps_ci * dp * dp,
+        mk_k=mk_k,
     )
     return Params(**{k: F(v) for k, v in vals.items()}, per_len_x=float(periods[0]), per_len_y=float(periods[1]),
                   dim=int(spec.dim))

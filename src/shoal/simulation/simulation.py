@@ -45,10 +45,12 @@ class Simulation:
     def __init__(self, model, end_time=None, dt_floor_ratio=1e-3, check_every=1, backend="cpu"):
         from ..case import Case
 
+        self.damping = []
         if isinstance(model, Case):
             from ..runner import build_model
 
             self.case = model
+            self.damping = list(model.damping)
             if end_time is None:
                 end_time = model.end_time
             model = build_model(model, backend)
@@ -114,6 +116,8 @@ class Simulation:
             if " step " in str(err):
                 raise
             raise InstabilityError(f"unstable at step {self.step_count + 1}, t = {self.time:.6g} s: {err}") from None
+        if self.damping:
+            m.apply_damping(self.damping, dt)
         self.time += dt
         m.time = self.time
         self.step_count += 1

@@ -9,7 +9,7 @@ that walls never attract fluid (as DualSPHysics does). With XSPH the
 particles move with v + dv_xsph.
 """
 
-from ..physics.spec import FLUID, MOVING
+from ..physics.spec import FLUID, MOVING, REPULSIVE_MOVING
 
 
 def make_updates(jit, spec, unpack):
@@ -114,7 +114,7 @@ def make_updates(jit, spec, unpack):
         """Prescribed rigid motion of moving boundary particles:
         r = r(0) + X_m(t), v = U_m(t) for the motion m of the particle's body
         (positions from the initial ones, so no drift accumulates)."""
-        if kind[i] == MOVING:
+        if kind[i] == MOVING or kind[i] == REPULSIVE_MOVING:
             p = idp[i]
             m = motion_of[p]
             for d in range(dim):
@@ -142,5 +142,25 @@ def make_updates(jit, spec, unpack):
             elif y < lo_y:
                 pos[i, 1] = y + P.per_len_y
 
-    return dict(wrap_periodic=wrap_periodic, verlet=verlet, save_state=save_state, half_step=half_step,
+    @jit
+    def damp(i, pos, vel, kind, sx, sy, sz, ex, ey, ez, inv_len, rate, dt):
+        """Damping zone (as DualSPHysics's): a fluid particle a fraction f in [0, 1]
+        of the way into the zone (from the start plane, along e) has its velocity
+        multiplied by max(1 - dt rate f^2, 0) each step."""
+        if kind[i] == FLUID:
+            if dim == 3:
+                s_ = (pos[i, 0] - sx) * ex + (pos[i, 1] - sy) * ey + (pos[i, 2] - sz) * ez
+            else:
+                s_ = (pos[i, 0] - sx) * ex + (pos[i, 1] - sz) * ez
+            f = s_ * inv_len
+            if f > 0.0:
+                if f > 1.0:
+                    f = 1.0
+                k = 1.0 - dt * rate * f * f
+                if k < 0.0:
+                    k = 0.0
+                for d in range(dim):
+                    vel[i, d] = F(vel[i, d] * k)
+
+    return dict(damp=damp, wrap_periodic=wrap_periodic, verlet=verlet, save_state=save_state, half_step=half_step,
                 symplectic_correct=symplectic_correct, pc_correct=pc_correct, move_bodies=move_bodies)
