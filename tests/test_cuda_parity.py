@@ -150,14 +150,15 @@ def test_sps_rates_match_cpu():
 
 
 @needs_cuda
-def test_repulsive_walls_match_cpu():
-    """Monaghan-Kajtar walls: the same motion on the CUDA backend (8 steps of a small tank)."""
-    from shoal.case import Case, Fluid, FluidRegion, Solid
+def test_repulsive_walls_and_planes_match_cpu():
+    """Monaghan-Kajtar walls and a wall plane: the same motion on the CUDA backend (8 steps of a small tank)."""
+    from shoal.case import Case, Fluid, FluidRegion, Solid, WallPlane
     from shoal.geometry.shapes import Box, Tank
 
     case = Case(name="mk", dim=2, dp=0.04, fluid=Fluid(depth=0.2, surface_level=0.2),
                 options={"precision": "float64"},
                 solids=[Solid(shape=Tank(lo=(0, 0, 0), hi=(0.4, 0, 0.3)), boundary="repulsive")],
+                planes=[WallPlane(point=(0.3, 0, 0), normal=(-1, 0, 0.2))],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.2, 0, 0.2)))])
     cpu, gpu = build_model(case, "cpu"), build_model(case, "cuda")
     for m in (cpu, gpu):

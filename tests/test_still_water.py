@@ -139,3 +139,38 @@ def test_still_water_with_repulsive_walls():
           f"max hydrostatic error {err:.4f}")
     assert abs(surf - depth) < 2 * dp
     assert err < 0.03
+
+
+def test_still_water_between_wall_planes():
+    """A tank whose bed and side walls are geometric planes (no particles): over 10^4 steps the
+    water stays inside the planes and the pressure away from the walls is hydrostatic below the
+    settled surface. Measured: 3.8 % at 1.5 s (3.3 % against the best-fit surface level), above
+    the 3 % reached by particle walls; this guards that figure (< 4.5 %) until it is improved."""
+    import shoal
+    from shoal.case import Domain, WallPlane
+    from shoal.geometry import Box
+
+    depth, length, dp = 0.4, 0.8, 0.02
+    case = shoal.Case(name="still-water-planes", dim=2, dp=dp, end_time=1.5,
+                      fluid=shoal.Fluid(depth=depth, surface_level=depth),
+                      planes=[WallPlane(point=(0, 0, 0), normal=(0, 0, 1)),
+                              WallPlane(point=(0, 0, 0), normal=(1, 0, 0)),
+                              WallPlane(point=(length, 0, 0), normal=(-1, 0, 0))],
+                      fluids=[shoal.FluidRegion(shape=Box(lo=(0, 0, 0), hi=(length, 0, depth)))],
+                      domain=Domain(lo=(-0.1, 0, -0.1), hi=(length + 0.1, 0, 0.8)))
+    assert case.particles().counts() == {"fluid": 40 * 20, "fixed": 0, "moving": 0}
+    model, sim, m, kind, n_fluid0, top0 = settle(case, 1.5, 0.3)
+    assert sim.step_count >= 10_000
+    pos = model.world_positions()
+    assert pos[:, 0].min() > 0 and pos[:, 0].max() < length and pos[:, 2].min() > 0
+    assert model.n_escaped == 0
+    x, z, p = m["x"], m["z"], m["p"]
+    interior = (x > 0.2 * length) & (x < 0.8 * length)
+    cols = np.round(x[interior] / dp).astype(int)
+    surf = float(np.mean([z[interior][cols == c].max() for c in np.unique(cols)])) + 0.5 * dp
+    h = case.smoothing_length
+    inner = interior & (z > 2 * h) & (z < surf - 2 * h)
+    err = np.max(np.abs(p[inner] - 1000.0 * G * (surf - z[inner]))) / (1000.0 * G * depth)
+    print(f"wall planes: {sim.step_count} steps, settled surface {surf:.4f} m, max hydrostatic error {err:.4f}")
+    assert abs(surf - depth) < 2 * dp
+    assert err < 0.045

@@ -27,7 +27,7 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, field_validator, model_validator
 
 from .errors import InputError
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
@@ -147,6 +147,24 @@ class SymmetryPlane(Spec):
     normal: Vec3
 
 
+class WallPlane(Spec):
+    """A wall without particles (GPUSPH's planes): the plane through `point`
+    with `normal` pointing into the fluid pushes fluid away with the force of
+    a Monaghan-Kajtar particle wall in the continuum limit
+    (`shoal.physics.planes`); free-slip. Fluid behind it is not generated."""
+
+    point: Vec3
+    normal: Vec3
+
+    @field_validator("normal")
+    @classmethod
+    def _unit(cls, v):
+        n = np.asarray(v, float)
+        if not np.linalg.norm(n) > 0:
+            raise ValueError("normal must be a non-zero vector")
+        return tuple(float(x) for x in n / np.linalg.norm(n))
+
+
 class DampingZone(Spec):
     """A wave-absorbing zone (a sponge layer, as DualSPHysics's damping):
     from the plane through `start` to the plane through `end` (normal to
@@ -193,6 +211,7 @@ class Case(BaseModel):
     motions : list of motions (see :mod:`shoal.motions`)
     symmetry_planes : list of SymmetryPlane
     damping : list of DampingZone
+    planes : list of WallPlane
     domain : Domain, optional
         Default: the particles' bounding box grown by the kernel support 2h
         on every side and by the fluid's height above.
@@ -219,6 +238,7 @@ class Case(BaseModel):
     motions: list[AnyMotion] = []
     symmetry_planes: list[SymmetryPlane] = []
     damping: list[DampingZone] = []
+    planes: list[WallPlane] = []
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
     output: Output = Output()
@@ -302,6 +322,15 @@ class Case(BaseModel):
         fluids = [FluidInput(f.shape, f.velocity) for f in self.fluids]
         support = 2.0 * self.smoothing_length / self.dp
         p = generate(self.dim, self.dp, (lo, hi), solids, fluids, support, self.lattice_origin)
+        if self.planes:
+            behind = np.zeros(len(p), bool)
+            for pl in self.planes:
+                n = np.asarray(pl.normal) * ([1.0, 0.0, 1.0] if self.dim == 2 else 1.0)
+                behind |= (p.kinds == 0) & ((p.positions - np.asarray(pl.point)) @ n < 0.0)
+            if behind.any():
+                keep = ~behind
+                p = Particles(p.positions[keep], p.kinds[keep], p.velocities[keep], p.body[keep], p.region[keep],
+                              p.spacing[keep], p.body_names)
         for k in range(len(self.fluids)):
             if not np.any(p.region == k):
                 raise InputError(f"fluids[{k}] ({self.fluids[k].shape.type}) holds no particle: it lies inside "

@@ -65,6 +65,9 @@ class Model:
         Prescribed motions (:mod:`shoal.motions`) of the moving boundaries.
     motion_of : (N,) int array, optional
         Index into `motions` of each moving particle (-1 for the others).
+    planes : sequence of (point, normal)
+        Wall planes without particles (`shoal.physics.planes`): a point on
+        each [m] and its normal pointing into the fluid (world x, y, z).
     periodic : sequence of {"x", "y"}
         Periodic axes: the domain's extent along each is the period; the
         neighbour search wraps round and particles crossing a face re-enter
@@ -75,7 +78,7 @@ class Model:
 
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
-                 velocities=None, motions=None, motion_of=None, periodic=(), backend="cpu"):
+                 velocities=None, motions=None, motion_of=None, periodic=(), planes=(), backend="cpu"):
         options = options or SPHOptions()
         if dim not in (2, 3):
             raise InputError(f"dim = {dim!r}; allowed 2 or 3")
@@ -98,7 +101,9 @@ class Model:
                 raise InputError(f"periodic axis {a!r} is not allowed; use 'x'" + (" or 'y'" if dim == 3 else
                                                                                 " (2D runs are in the x-z plane)"))
         self.periodic = periodic
-        self.spec = SchemeSpec.from_options(options, dim, periodic, repulsive=bool(np.any(kinds >= REPULSIVE)))
+        planes = list(planes or ())
+        self.spec = SchemeSpec.from_options(options, dim, periodic, repulsive=bool(np.any(kinds >= REPULSIVE)),
+                                            planes=bool(planes))
         self.dtype = options.dtype
         self.rho0 = float(rho0)
         self.gravity = np.asarray(gravity, dtype=np.float64)
@@ -122,15 +127,28 @@ class Model:
                                  f"spacings dp = {self.dp:g} m: the lattice would not join up across the period")
         self._period_lo = (float(lo3[0]), float(lo3[1]))
         mk_k = 0.0
-        if self.spec.repulsive:
+        if self.spec.repulsive or self.spec.planes:
             if fluid_height is None or g == 0:
-                raise InputError("repulsive boundary particles need gravity and a fluid depth (K = g D, "
-                                 "Monaghan & Kajtar 2009)")
+                raise InputError("repulsive boundary particles and wall planes need gravity and a fluid depth "
+                                 "(K = g D, Monaghan & Kajtar 2009)")
             mk_k = g * float(fluid_height) / 2.0  # K / beta, beta = dp / (dp/2)
         self.params = make_params(self.spec, dp=self.dp, h=self.h, rho0=self.rho0, c0=self.c0, gamma=GAMMA,
                                   gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass,
                                   periods=periods, mk_k=mk_k)
         self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
+        from .physics.planes import plane_force_table
+
+        parr = np.zeros((len(planes), 4))
+        for k, (point, normal) in enumerate(planes):
+            nrm = np.asarray(normal, float).copy()
+            if dim == 2:
+                nrm[1] = 0.0
+            if not np.linalg.norm(nrm) > 0:
+                raise InputError(f"wall plane {k}: its normal {list(normal)} has no x-z component in a 2D case")
+            nrm /= np.linalg.norm(nrm)
+            parr[k, :3] = nrm
+            parr[k, 3] = float(nrm @ np.asarray(point, float))
+        ptable = plane_force_table(dim, self.dp, self.h, mk_k) if planes else np.zeros(2)
 
         cols = [0, 1, 2] if dim == 3 else [0, 2]
         lo = np.asarray(domain[0], dtype=np.float64)[cols]
@@ -155,6 +173,8 @@ class Model:
         self.kind = b.asarray(kinds.copy())
         self.idp = b.asarray(np.arange(n, dtype=np.int32))
         self.P = b.asarray(self.P)
+        self.planes = b.asarray(parr)
+        self.ptable = b.asarray(ptable.astype(F))
         # rates and work arrays
         self.ace = b.zeros((n, dim), F)
         self.drho = b.zeros(n, F)
@@ -289,7 +309,7 @@ class Model:
                                self.grid.gdims_arr, P, self.tau))
         b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                              self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
-                             self.vmax, self.tau))
+                             self.vmax, self.tau, self.planes, self.ptable))
 
     def time_step_limit(self):
         """Variable time step of Monaghan & Kos (1999), as in DualSPHysics:

@@ -64,7 +64,8 @@ def build_model(case, backend="cpu"):
     return Model(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
                  options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
                  surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
-                 periodic=tuple(case.domain.periodic) if case.domain else (), backend=backend)
+                 periodic=tuple(case.domain.periodic) if case.domain else (),
+                 planes=[(pl.point, pl.normal) for pl in case.planes], backend=backend)
 
 
 def run_summary(case, model):

@@ -17,6 +17,7 @@ from .filters import make_filters
 from .kernels import make_kernels
 from .rates import make_rates
 from .spec import FIXED, FLUID, MOVING, Params, SchemeSpec, make_params, make_unpack
+from .planes import make_plane_force
 from .turbulence import make_sps
 from .viscosity import make_viscosity
 
@@ -54,8 +55,9 @@ def build_physics(jit, spec, target="cpu"):
     pressure = make_eos(j, spec)
     viscous = make_viscosity(j, spec)
     diffusion = make_density_diffusion(j, spec)
+    plane_accel = make_plane_force(j, spec)
     particle_pr2, particle_rates = make_rates(j, spec, (w, grad_factor), pressure, viscous, diffusion,
-                                              make_gather, unpack)
+                                              make_gather, unpack, plane_accel)
     shepard, mls = make_filters(j, spec, (w, grad_factor), make_gather, unpack)
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,

@@ -30,9 +30,12 @@ The time-step limit needs max_j |h v_ij . r_ij / (r_ij^2 + eta^2)|
 from .spec import FLUID, REPULSIVE
 
 
-def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack):
+def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack, plane_accel=None):
     """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
-    grid_dims, Parr, ace, drho, xsph, vmax, tau)``, which writes particle i's rates.
+    grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable)``, which writes particle i's rates.
+
+    `planes` (n, 4) and `ptable` are the wall planes and their force table
+    (`shoal.physics.planes`; read only when the scheme has planes).
 
     `tau` holds tau / rho^2 of the SPS stress (read only when the scheme has SPS).
 
@@ -49,6 +52,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     use_xsph = spec.xsph
     use_sps = spec.sps
     use_mk = spec.repulsive
+    use_planes = spec.planes
     two, halfq = F(2.0), F(0.5)
     t_pos, t_neg = F(0.01), F(-0.2)
 
@@ -148,7 +152,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
 
     @jit
     def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax,
-                       tau):
+                       tau, planes, ptable):
         P = unpack(Parr)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         vix = vel[i, 0]
@@ -168,6 +172,12 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 own = (vix, viy, viz, rho[i], pr2i, ti, zero, zero, zero, zero, zero, zero)
             acc = (zero, zero, zero, zero, zero, zero, zero, zero)
             ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
+            if use_planes:
+                qx, qy, qz = plane_accel(pos[i, 0], pos[i, 1] if dim == 3 else 0.0, pos[i, dim - 1], planes,
+                                         ptable, P)
+                ax += qx
+                ay += qy
+                az += qz
             ace[i, 0] = ax + P.gx
             if dim == 3:
                 ace[i, 1] = ay + P.gy

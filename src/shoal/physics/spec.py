@@ -42,9 +42,11 @@ class SchemeSpec:
     """SPS turbulence (Dalrymple & Rogers 2006)."""
     repulsive: bool = False
     """The run has Monaghan-Kajtar repulsive boundary particles."""
+    planes: bool = False
+    """The run has wall planes (`shoal.physics.planes`)."""
 
     @classmethod
-    def from_options(cls, options, dim, periodic=(), repulsive=False):
+    def from_options(cls, options, dim, periodic=(), repulsive=False, planes=False):
         mask = (1 if "x" in periodic else 0) | (2 if "y" in periodic else 0)
         return cls(
             dim=int(dim),
@@ -58,6 +60,7 @@ class SchemeSpec:
             periodic=mask,
             sps=options.turbulence == "sps",
             repulsive=bool(repulsive),
+            planes=bool(planes),
         )
 
     @property
@@ -65,7 +68,7 @@ class SchemeSpec:
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
-                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}")
+                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}")
 
     @property
     def float_type(self):
