@@ -41,12 +41,14 @@ def test_case_builds_and_runs_a_few_steps(name):
     assert f"{model.nbytes() / 2**20:,.1f} MiB" in mem_line  # shoal check's estimate is what the run holds
 
 
-def test_half_width_checks_but_does_not_run_and_repulsive_runs():
+def test_half_width_and_repulsive_variants_run():
     half = get_case("tidal-bore", dp=0.025, half=True)
     full = get_case("tidal-bore", dp=0.025)
     assert half.particles().n_fluid * 2 == full.particles().n_fluid
-    with pytest.raises(InputError, match="symmetry plane"):
-        build_model(half)
+    m = build_model(half)
+    assert m.spec.symmetry == 1
+    Simulation(m, 1.0).run(max_steps=3)
+    assert m.n == m.n_total
     rep = get_case("rip-current", dp=0.075, boundary="repulsive")
     assert np.all(rep.particles().spacing[rep.particles().kinds != 0] == 0.075 / 2)
     model = build_model(rep)

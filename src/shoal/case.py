@@ -137,10 +137,12 @@ class SymmetryPlane(Spec):
     `normal` (pointing into the fluid), so half a symmetric flume stands for
     the whole one.
 
-    The case geometry records it (the half-width flume is generated without
-    a wall there); the mirror-particle boundary itself is not in the solver
-    yet, so a case with a symmetry plane can be checked and plotted but not
-    run.
+    Every particle within the kernel support 2h of the plane is mirrored
+    across it (same density and pressure, opposite normal velocity) as a
+    neighbour of the particles on this side, at every evaluation (mirror
+    images in the neighbour search, no extra particles); a particle that
+    crosses the plane comes back as its image. Supported: planes y = const
+    in 3D (normal [0, 1, 0] or [0, -1, 0]), the case of the half-width flume.
     """
 
     point: Vec3

@@ -68,6 +68,10 @@ class Model:
     planes : sequence of (point, normal)
         Wall planes without particles (`shoal.physics.planes`): a point on
         each [m] and its normal pointing into the fluid (world x, y, z).
+    symmetry_y : (y, side), optional
+        A symmetry plane y = const (3D): fluid on the low side (side = -1:
+        normal -y) or the high side (+1). Mirror images of the particles
+        within 2h stand in for the other half (see `neighbours.gather`).
     periodic : sequence of {"x", "y"}
         Periodic axes: the domain's extent along each is the period; the
         neighbour search wraps round and particles crossing a face re-enter
@@ -78,7 +82,8 @@ class Model:
 
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
-                 velocities=None, motions=None, motion_of=None, periodic=(), planes=(), backend="cpu"):
+                 velocities=None, motions=None, motion_of=None, periodic=(), planes=(), symmetry_y=None,
+                 backend="cpu"):
         options = options or SPHOptions()
         if dim not in (2, 3):
             raise InputError(f"dim = {dim!r}; allowed 2 or 3")
@@ -102,8 +107,15 @@ class Model:
                                                                                 " (2D runs are in the x-z plane)"))
         self.periodic = periodic
         planes = list(planes or ())
+        sym_code = 0
+        if symmetry_y is not None:
+            if dim != 3:
+                raise InputError("a symmetry plane is for 3D cases (normal along y)")
+            if "y" in periodic:
+                raise InputError("a symmetry plane y = const and a periodic y axis exclude each other")
+            sym_code = 1 if symmetry_y[1] < 0 else 2
         self.spec = SchemeSpec.from_options(options, dim, periodic, repulsive=bool(np.any(kinds >= REPULSIVE)),
-                                            planes=bool(planes))
+                                            planes=bool(planes), symmetry=sym_code)
         self.dtype = options.dtype
         self.rho0 = float(rho0)
         self.gravity = np.asarray(gravity, dtype=np.float64)
@@ -134,7 +146,9 @@ class Model:
             mk_k = g * float(fluid_height) / 2.0  # K / beta, beta = dp / (dp/2)
         self.params = make_params(self.spec, dp=self.dp, h=self.h, rho0=self.rho0, c0=self.c0, gamma=GAMMA,
                                   gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass,
-                                  periods=periods, mk_k=mk_k)
+                                  periods=periods, mk_k=mk_k,
+                                  sym_y=float(symmetry_y[0]) if symmetry_y is not None else 0.0,
+                                  grid_lo_y=float(lo3[1]), inv_cs=options.cells_per_support / (2.0 * self.h))
         self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
         from .physics.planes import plane_force_table
 
@@ -275,9 +289,9 @@ class Model:
         Particles outside the domain go to the end and leave the computation.
         """
         n_before = self.n
-        if self.periodic:
+        if self.periodic or self.spec.symmetry:
             b = self.backend
-            b.timed(b.wrap_periodic, n_before, (self.pos, self._period_lo[0], self._period_lo[1], self.P))
+            b.timed(b.wrap_periodic, n_before, (self.pos, self.vel, self._period_lo[0], self._period_lo[1], self.P))
         n = self.grid.bin(self.pos, n_before)
         arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, *self.extra_arrays]
         self.grid.reorder(arrays, n_before, self.scratch)

@@ -49,10 +49,16 @@ class RunResult:
 def build_model(case, backend="cpu"):
     """The `Model` of a `Case`: generate its particles and compile the scheme."""
     p = case.particles()
+    sym = None
     if case.symmetry_planes:
-        raise InputError("this case has a symmetry plane (a half-width model): its particles are generated "
-                         "(shoal check, shoal plot-case) but mirror particles are not in the solver yet; "
-                         "run the full width instead")
+        if len(case.symmetry_planes) > 1:
+            raise InputError("one symmetry plane per case is supported")
+        sp = case.symmetry_planes[0]
+        n = np.asarray(sp.normal, float)
+        if case.dim != 3 or abs(abs(n[1]) - 1.0) > 1e-9:
+            raise InputError(f"symmetry plane normal {list(sp.normal)}: only planes y = const (normal [0, 1, 0] or "
+                             "[0, -1, 0]) in 3D cases are supported")
+        sym = (float(sp.point[1]), float(np.sign(n[1])))
     index = {m.name: k for k, m in enumerate(case.motions)}
     body_motion = np.array([index.get(s.motion, -1) if s.motion else -1 for s in case.solids] + [-1], np.int32)
     motion_of = np.where(p.body >= 0, body_motion[p.body], -1)
@@ -65,7 +71,7 @@ def build_model(case, backend="cpu"):
                  options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
                  surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
                  periodic=tuple(case.domain.periodic) if case.domain else (),
-                 planes=[(pl.point, pl.normal) for pl in case.planes], backend=backend)
+                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
 
 
 def run_summary(case, model):

@@ -144,8 +144,7 @@ def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, end_time=1.6,
         Initial depth d0 [m] (0.1).
     half : bool
         Model half the width with a symmetry plane at y = 0.15 m, as the
-        paper did (generated and checked; not yet runnable, see
-        `shoal.case.SymmetryPlane`).
+        paper did (`shoal.case.SymmetryPlane`).
     end_time, output_interval : float
         [s]; the paper ran to 1.6 s.
     """

@@ -31,15 +31,17 @@ def make_gather(jit, spec, pair):
     of each cell; gdims : (nx, ny, nz); data : tuple of arrays passed to
     `pair`; P : `Params`.
 
-    ``pair(acc, own, j, dx, dy, dz, r2, data, P)`` returns the new
+    ``pair(acc, own, j, dx, dy, dz, r2, sy, data, P)`` returns the new
     accumulator; (dx, dy, dz) = r_i - r_j (dy = 0 in 2D, where the second
-    stored component is z).
+    stored component is z); sy = 1, or -1 when j stands for its mirror
+    image across a symmetry plane y = const (its y velocity is reversed).
     """
     n = spec.cells_per_support
     dim = spec.dim
     F = spec.float_type
     zero = F(0.0)
-    if spec.periodic:
+    one = F(1.0)
+    if spec.periodic or spec.symmetry:
         return _make_periodic_gather(jit, spec, pair)
 
     if dim == 3:
@@ -64,7 +66,7 @@ def make_gather(jit, spec, pair):
                         dz = F(zi - pos[j, 2])
                         r2 = dx * dx + dy * dy + dz * dz
                         if r2 < supp2 and j != i:
-                            acc = pair(acc, own, j, dx, dy, dz, r2, data, P)
+                            acc = pair(acc, own, j, dx, dy, dz, r2, one, data, P)
             return acc
     else:
         @jit
@@ -84,19 +86,31 @@ def make_gather(jit, spec, pair):
                     dz = F(zi - pos[j, 1])
                     r2 = dx * dx + dz * dz
                     if r2 < supp2 and j != i:
-                        acc = pair(acc, own, j, dx, zero, dz, r2, data, P)
+                        acc = pair(acc, own, j, dx, zero, dz, r2, one, data, P)
             return acc
 
     return gather
 
 
 def _make_periodic_gather(jit, spec, pair):
+    """The gather with periodic axes and/or a symmetry plane y = ys (3D).
+
+    Symmetry plane (the "domain separation" of the tidal-bore paper): for a
+    particle i within 2h of the plane, a second scan visits the neighbours j
+    of i's mirror image r_i' = (x_i, 2 ys - y_i, z_i); each stands for the
+    mirror image of j, at r_j' = (x_j, 2 ys - y_j, z_j) with velocity
+    (u, -v, w), so r_i - r_j' = (x_i - x_j, y_i + y_j - 2 ys, z_i - z_j) and
+    the pair gets sy = -1. A particle within h of the plane meets its own
+    image too (j = i is kept in that scan).
+    """
     n = spec.cells_per_support
     dim = spec.dim
     F = spec.float_type
     zero = F(0.0)
+    one, mone = F(1.0), F(-1.0)
     px = bool(spec.periodic & 1)
     py = bool(spec.periodic & 2) and dim == 3
+    sym = bool(spec.symmetry) and dim == 3
 
     @jit
     def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
@@ -104,7 +118,7 @@ def _make_periodic_gather(jit, spec, pair):
         c = cell[i]
         ix = c % nx
         t = c // nx
-        iy = t % ny
+        iy0 = t % ny
         iz = t // ny
         xi = pos[i, 0]
         zi = pos[i, dim - 1]
@@ -112,45 +126,61 @@ def _make_periodic_gather(jit, spec, pair):
         supp2 = P.supp2
         lx = P.per_len_x
         ly = P.per_len_y
-        for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
-            for oy in range(-n, n + 1) if dim == 3 else range(0, 1):
-                y = iy + oy
-                yshift = 0.0
-                if y < 0:
-                    if not py:
-                        continue
-                    y += ny
-                    yshift = ly
-                elif y >= ny:
-                    if not py:
-                        continue
-                    y -= ny
-                    yshift = -ly
-                row = nx * (y + ny * z)
-                for seg in range(3):
-                    if seg == 0:
-                        a = max(ix - n, 0)
-                        b = min(ix + n, nx - 1)
-                        xshift = 0.0
-                    elif seg == 1:  # off the low end: cells at the high end, images at x - L
-                        if not px or ix - n >= 0:
+        n_scans = 1
+        if sym:
+            if abs(yi - P.sym_y) < 2.0 * P.h:
+                n_scans = 2
+        for scan in range(n_scans):
+            iy = iy0
+            sy = one
+            if scan == 1:
+                iy = int((2.0 * P.sym_y - yi - P.grid_lo_y) * P.inv_cs)
+                sy = mone
+            for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+                for oy in range(-n, n + 1) if dim == 3 else range(0, 1):
+                    y = iy + oy
+                    yshift = 0.0
+                    if y < 0:
+                        if not py:
                             continue
-                        a = nx + ix - n
-                        b = nx - 1
-                        xshift = lx
-                    else:  # off the high end: cells at the low end, images at x + L
-                        if not px or ix + n <= nx - 1:
+                        y += ny
+                        yshift = ly
+                    elif y >= ny:
+                        if not py:
                             continue
-                        a = 0
-                        b = ix + n - nx
-                        xshift = -lx
-                    for j in range(cell_start[row + a], cell_start[row + b + 1]):
-                        dx = F(xi - pos[j, 0] + xshift)
-                        dz = F(zi - pos[j, dim - 1])
-                        dy = F(yi - pos[j, 1] + yshift) if dim == 3 else zero
-                        r2 = dx * dx + dy * dy + dz * dz
-                        if r2 < supp2 and j != i:
-                            acc = pair(acc, own, j, dx, dy, dz, r2, data, P)
+                        y -= ny
+                        yshift = -ly
+                    row = nx * (y + ny * z)
+                    for seg in range(3):
+                        if seg == 0:
+                            a = max(ix - n, 0)
+                            b = min(ix + n, nx - 1)
+                            xshift = 0.0
+                        elif seg == 1:  # off the low end: cells at the high end, images at x - L
+                            if not px or ix - n >= 0:
+                                continue
+                            a = nx + ix - n
+                            b = nx - 1
+                            xshift = lx
+                        else:  # off the high end: cells at the low end, images at x + L
+                            if not px or ix + n <= nx - 1:
+                                continue
+                            a = 0
+                            b = ix + n - nx
+                            xshift = -lx
+                        for j in range(cell_start[row + a], cell_start[row + b + 1]):
+                            dx = F(xi - pos[j, 0] + xshift)
+                            dz = F(zi - pos[j, dim - 1])
+                            if dim == 3:
+                                if scan == 1:
+                                    dy = F(yi + pos[j, 1] - 2.0 * P.sym_y + yshift)
+                                else:
+                                    dy = F(yi - pos[j, 1] + yshift)
+                            else:
+                                dy = zero
+                            r2 = dx * dx + dy * dy + dz * dz
+                            if r2 < supp2 and (j != i or scan == 1):
+                                acc = pair(acc, own, j, dx, dy, dz, r2, sy, data, P)
         return acc
 
     return gather

@@ -26,7 +26,7 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     tol = F(1e-3)
 
     @jit
-    def shepard_pair(acc, own, j, dx, dy, dz, r2, data, P):
+    def shepard_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         rho, kind = data
         num, den = acc
         if kind[j] >= REPULSIVE:
@@ -49,7 +49,7 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
         out[i] = num / den
 
     @jit
-    def moment_pair(acc, own, j, dx, dy, dz, r2, data, P):
+    def moment_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         rho, kind = data
         a00, a01, a02, a03, a11, a12, a13, a22, a23, a33 = acc
         if kind[j] >= REPULSIVE:
@@ -65,7 +65,7 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
                 a22 + v * e2 * e2, a23 + v * e2 * e3, a33 + v * e3 * e3)
 
     @jit
-    def mls_rho_pair(acc, own, j, dx, dy, dz, r2, data, P):
+    def mls_rho_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         rho, kind = data
         b0, b1, b2, b3 = own
         if kind[j] >= REPULSIVE:

@@ -57,7 +57,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     t_pos, t_neg = F(0.01), F(-0.2)
 
     @jit
-    def fluid_pair(acc, own, j, dx, dy, dz, r2, data, P):
+    def fluid_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         ax, ay, az, dr, xx, xy, xz, vmax = acc
         vix, viy, viz, rhoi, pr2i, ti, t0, t1, t2, t3, t4, t5 = own
         vel, rho, pr2, kind, tau = data
@@ -71,7 +71,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 c = P.mk_k * t2 * t2 * (one + two * q) / r2
                 vjx = vel[j, 0]
                 vjz = vel[j, dim - 1]
-                vjy = vel[j, 1] if dim == 3 else zero
+                vjy = sy * vel[j, 1] if dim == 3 else zero
                 ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
                 vdotr = ux * dx + uy * dy + uz * dz
                 pi_ij, lam = viscous(vdotr, r2, fr, P.mass_f, rhoi, P.rho0, P)
@@ -81,7 +81,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                         vmax)
         vjx = vel[j, 0]
         vjz = vel[j, dim - 1]
-        vjy = vel[j, 1] if dim == 3 else zero
+        vjy = sy * vel[j, 1] if dim == 3 else zero
         ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
         vdotr = ux * dx + uy * dy + uz * dz
         is_fluid = kind[j] == FLUID
@@ -109,8 +109,9 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 # (tau_i/rho_i^2 + tau_j/rho_j^2) . grad W, grad W = fr r_ij
                 c = mj * fr
                 if dim == 3:
-                    sxx, sxy, sxz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
-                    syy, syz, szz = t3 + tau[j, 3], t4 + tau[j, 4], t5 + tau[j, 5]
+                    # a mirror image's stress has its xy and yz components reversed
+                    sxx, sxy, sxz = t0 + tau[j, 0], t1 + sy * tau[j, 1], t2 + tau[j, 2]
+                    syy, syz, szz = t3 + tau[j, 3], t4 + sy * tau[j, 4], t5 + tau[j, 5]
                     ax += c * (sxx * dx + sxy * dy + sxz * dz)
                     ay += c * (sxy * dx + syy * dy + syz * dz)
                     az += c * (sxz * dx + syz * dy + szz * dz)
@@ -128,7 +129,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         return ax, ay, az, dr, xx, xy, xz, vmax
 
     @jit
-    def bound_pair(acc, own, j, dx, dy, dz, r2, data, P):
+    def bound_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         vix, viy, viz = own
         vel, rho, pr2, kind, tau = data
         if kind[j] != FLUID:
@@ -136,7 +137,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         q = r2 ** F(0.5) * P.inv_h
         fr = grad_factor(q, P)
         vjz = vel[j, dim - 1]
-        vjy = vel[j, 1] if dim == 3 else zero
+        vjy = sy * vel[j, 1] if dim == 3 else zero
         vdotr = (vix - vel[j, 0]) * dx + (viy - vjy) * dy + (viz - vjz) * dz
         return acc + P.mass_f * vdotr * fr
 

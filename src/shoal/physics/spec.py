@@ -44,9 +44,11 @@ class SchemeSpec:
     """The run has Monaghan-Kajtar repulsive boundary particles."""
     planes: bool = False
     """The run has wall planes (`shoal.physics.planes`)."""
+    symmetry: int = 0
+    """A symmetry plane y = const (3D): 0 none, 1 fluid on the low side, 2 on the high side."""
 
     @classmethod
-    def from_options(cls, options, dim, periodic=(), repulsive=False, planes=False):
+    def from_options(cls, options, dim, periodic=(), repulsive=False, planes=False, symmetry=0):
         mask = (1 if "x" in periodic else 0) | (2 if "y" in periodic else 0)
         return cls(
             dim=int(dim),
@@ -61,6 +63,7 @@ class SchemeSpec:
             sps=options.turbulence == "sps",
             repulsive=bool(repulsive),
             planes=bool(planes),
+            symmetry=int(symmetry),
         )
 
     @property
@@ -68,7 +71,7 @@ class SchemeSpec:
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
-                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}")
+                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}")
 
     @property
     def float_type(self):
@@ -85,6 +88,7 @@ Params = namedtuple("Params", [
     "xsph_eps",
     "sps_smag", "sps_blin", "mk_k",
     "per_len_x", "per_len_y",
+    "sym_y", "grid_lo_y", "inv_cs",
     "dim",
 ])
 """Run-time constants of a kernel, all in the working precision.
@@ -101,7 +105,9 @@ internal components (2D runs store (x, z) and use gx, gz). xsph_eps: XSPH
 epsilon. sps_smag = (Cs dp)^2 [m^2], sps_blin = (2/3) C_I dp^2 [m^2]: SPS
 turbulence. mk_k = K / beta [m^2/s^2]: Monaghan-Kajtar boundary force,
 K = g D, beta = dp / dp_b = 2. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
-they shift float64 position differences; 0 when not periodic). dim: the
+they shift float64 position differences; 0 when not periodic). sym_y:
+the symmetry plane's y [m]; grid_lo_y, inv_cs: the cell grid's lower y and
+1 / cell size (to find the mirror point's cell); float64. dim: the
 dimension (an int, which also keeps the tuple heterogeneous:
 Numba's parallel loops reject homogeneous named tuples as loop arguments).
 """
@@ -115,7 +121,8 @@ def params_dtype(spec):
     turn it into a `Params` tuple with `make_unpack`.
     """
     F = spec.float_type
-    wide = {"dim": np.int64, "per_len_x": np.float64, "per_len_y": np.float64}
+    wide = {"dim": np.int64, "per_len_x": np.float64, "per_len_y": np.float64, "sym_y": np.float64,
+            "grid_lo_y": np.float64, "inv_cs": np.float64}
     return np.dtype([(name, wide.get(name, F)) for name in Params._fields])
 
 
@@ -138,7 +145,8 @@ def make_unpack(jit):
         return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
                       r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
                       r["ddt_coef"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
-                      r["sps_smag"], r["sps_blin"], r["mk_k"], r["per_len_x"], r["per_len_y"], r["dim"])
+                      r["sps_smag"], r["sps_blin"], r["mk_k"], r["per_len_x"], r["per_len_y"], r["sym_y"], r["grid_lo_y"],
+                      r["inv_cs"], r["dim"])
 
     return unpack
 
@@ -154,7 +162,8 @@ def kernel_normalisation(kernel, dim, h):
     return 10.0 / (7.0 * math.pi * h**2) if dim == 2 else 1.0 / (math.pi * h**3)
 
 
-def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, periods=(0.0, 0.0), mk_k=0.0):
+def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, periods=(0.0, 0.0), mk_k=0.0,
+                sym_y=0.0, grid_lo_y=0.0, inv_cs=0.0):
     """Build `Params` for a run, cast to the working precision."""
     F = spec.float_type
     aw = kernel_normalisation(spec.kernel, spec.dim, h)
@@ -181,4 +190,4 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
         mk_k=mk_k,
     )
     return Params(**{k: F(v) for k, v in vals.items()}, per_len_x=float(periods[0]), per_len_y=float(periods[1]),
-                  dim=int(spec.dim))
+                  sym_y=float(sym_y), grid_lo_y=float(grid_lo_y), inv_cs=float(inv_cs), dim=int(spec.dim))

@@ -32,7 +32,7 @@ def make_sps(jit, spec, kernels, make_gather, unpack):
     _, grad_factor = kernels
 
     @jit
-    def grad_pair(acc, own, j, dx, dy, dz, r2, data, P):
+    def grad_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         gxx, gxy, gxz, gyx, gyy, gyz, gzx, gzy, gzz = acc
         vix, viy, viz = own
         vel, rho, kind = data
@@ -41,7 +41,7 @@ def make_sps(jit, spec, kernels, make_gather, unpack):
         vj = mj / rho[j] * fr
         ux = vel[j, 0] - vix
         uz = vel[j, dim - 1] - viz
-        uy = (vel[j, 1] - viy) if dim == 3 else zero
+        uy = (sy * vel[j, 1] - viy) if dim == 3 else zero
         # d_b v_a = sum V_j (v_j - v_i)_a fr (r_i - r_j)_b
         return (gxx + vj * ux * dx, gxy + vj * ux * dy, gxz + vj * ux * dz,
                 gyx + vj * uy * dx, gyy + vj * uy * dy, gyz + vj * uy * dz,

@@ -123,9 +123,10 @@ def make_updates(jit, spec, unpack):
 
     px = bool(spec.periodic & 1)
     py = bool(spec.periodic & 2) and dim == 3
+    sym = spec.symmetry if dim == 3 else 0
 
     @jit
-    def wrap_periodic(i, pos, lo_x, lo_y, Parr):
+    def wrap_periodic(i, pos, vel, lo_x, lo_y, Parr):
         """Bring a particle that crossed a periodic face back by one period:
         x -> x - L if x >= lo + L, x -> x + L if x < lo."""
         P = unpack(Parr)
@@ -141,6 +142,12 @@ def make_updates(jit, spec, unpack):
                 pos[i, 1] = y - P.per_len_y
             elif y < lo_y:
                 pos[i, 1] = y + P.per_len_y
+        if sym != 0:
+            # a particle that crossed the symmetry plane comes back as its mirror image
+            y = pos[i, 1]
+            if (sym == 1 and y > P.sym_y) or (sym == 2 and y < P.sym_y):
+                pos[i, 1] = 2.0 * P.sym_y - y
+                vel[i, 1] = -vel[i, 1]
 
     @jit
     def damp(i, pos, vel, kind, sx, sy, sz, ex, ey, ez, inv_len, rate, dt):
