@@ -33,6 +33,7 @@ from .errors import InputError
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, Vec3
 from .motions import AnyMotion
+from .probes import AnyProbe
 from .options import SPHOptions
 
 def _exact_int(name, allowed):
@@ -214,6 +215,7 @@ class Case(BaseModel):
     symmetry_planes : list of SymmetryPlane
     damping : list of DampingZone
     planes : list of WallPlane
+    probes : list of PointProbes / WaveGauge (`shoal.probes`)
     domain : Domain, optional
         Default: the particles' bounding box grown by the kernel support 2h
         on every side and by the fluid's height above.
@@ -241,6 +243,7 @@ class Case(BaseModel):
     symmetry_planes: list[SymmetryPlane] = []
     damping: list[DampingZone] = []
     planes: list[WallPlane] = []
+    probes: list[AnyProbe] = []
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
     output: Output = Output()

@@ -27,7 +27,10 @@ from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeri
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
            "time_series": TimeSeriesMotion}
-_TAGGED = {"shape": SHAPES, "motions": MOTIONS}
+from .probes import PointProbes, WaveGauge
+
+PROBES = {"points": PointProbes, "gauge": WaveGauge}
+_TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
 
 
 # ------------------------------------------------------------------ loading

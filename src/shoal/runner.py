@@ -169,6 +169,11 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d threads, %s",
              model.n_total, case.n_fluid, case.dp, model.h, model.c0, backend, model.backend.threads(),
              case.options.precision)
+    from .probes import ProbeRecorder
+
+    recorders = [ProbeRecorder(p, out_dir, case.dp) for p in case.probes]
+    for rec in recorders:
+        sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
     writer = SnapshotWriter(out_dir, case.name)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = _Progress(case.end_time, progress)
@@ -184,10 +189,14 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         sim.run(max_steps=max_steps)
     except InstabilityError as err:
         bar.stop()
+        for rec in recorders:
+            rec.close()
         path = writer.write(model, sim.time, suffix="unstable")
         log.error("%s; bad state written to %s", err, path.name)
         raise InstabilityError(f"{err} (state written to {path})") from None
     bar.stop()
+    for rec in recorders:
+        rec.close()
     if writer.last_time is None or writer.last_time < sim.time - 1e-12:
         writer(sim)
     if plot:

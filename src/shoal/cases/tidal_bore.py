@@ -38,6 +38,7 @@ from ..case import Case, Fluid, FluidRegion, Output, Solid, SymmetryPlane
 from ..errors import InputError
 from ..geometry.shapes import Box, Prism, Tank
 from ..motions import ConstantVelocity
+from ..probes import WaveGauge
 from ..options import SPHOptions
 from ._checks import check_count, check_dp, check_positive
 
@@ -96,15 +97,20 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
     desc = (f"{'undular' if fr < 1.3 else 'breaking'} tidal bore, U = {inflow_speed:g} m/s, d0 = {depth:g} m, "
             f"Fr = {fr:.2f}" + (", bridge-pier constriction" if piers else "") + (", half width" if half else ""))
     params = dict(dp=dp, inflow_speed=inflow_speed, depth=depth, half=half, froude=fr)
+    y_gauge = W / 2 if not half else W - 2 * dp  # on the centre line (next to the symmetry plane)
     if piers:
-        params.update(pier_start=pier_start, pier_length=pier_length, constriction=constriction,
-                      gauges_x=[pier_start, pier_start + 0.4, pier_start + pier_length])
+        params.update(pier_start=pier_start, pier_length=pier_length, constriction=constriction)
+        gx = {"entrance": pier_start, "middle": pier_start + 0.4, "exit": pier_start + pier_length}
+    else:
+        gx = {"x0.5": 0.5, "x1.0": 1.0, "x1.5": 1.5}
+    probes = [WaveGauge(name=k, x=x, y=y_gauge, z0=0.5 * depth, z1=HEIGHT, interval=0.01) for k, x in gx.items()]
     return Case(name=name, dim=3, dp=float(dp), end_time=float(end_time), description=desc,
                 fluid=Fluid(depth=depth, u_max=c0_speed, surface_level=depth),
                 options=options or SPHOptions(**PAPER_OPTIONS),
                 solids=solids, fluids=fluids,
                 motions=[ConstantVelocity(name="inflow", velocity=(-inflow_speed, 0.0, 0.0))],
-                symmetry_planes=sym, output=Output(interval=float(output_interval)), parameters=params)
+                symmetry_planes=sym, probes=probes, output=Output(interval=float(output_interval)),
+                parameters=params)
 
 
 def froude_of_bore(inflow_speed, depth, g=9.81):
@@ -147,6 +153,9 @@ def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, end_time=1.6,
         paper did (`shoal.case.SymmetryPlane`).
     end_time, output_interval : float
         [s]; the paper ran to 1.6 s.
+
+    Wave gauges at x = 0.5, 1.0 and 1.5 m on the centre line record the
+    bore every 0.01 s (``gauge_*.csv`` in the run's directory).
     """
     return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, False, 1.0, 0.6, 0.05)
 
@@ -158,8 +167,9 @@ def tidal_bore_piers(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, pier_st
     Parameters as `tidal_bore`, and `pier_start` [m] (x of the entrance of
     the constriction, 1.0 m from the gate), `pier_length` [m] and
     `constriction` [m] (how far each constriction narrows the channel).
-    Wave gauges (see the probes issue) go at x = pier_start, pier_start +
-    0.4 m and pier_start + pier_length (the paper's 1.0, 1.4 and 1.6 m).
+    Wave gauges at x = pier_start, pier_start + 0.4 m and pier_start +
+    pier_length (the paper's 1.0, 1.4 and 1.6 m: entrance, mid-section and
+    exit) on the centre line, every 0.01 s (``gauge_*.csv``).
     """
     return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, True, pier_start,
                  pier_length, constriction)

@@ -20,11 +20,12 @@ from ..case import Case, Fluid, FluidRegion, Output, Solid
 from ..geometry.shapes import Box, Slope, Tank
 from ..motions import PistonWavemaker
 from ..options import SPHOptions
+from ..probes import WaveGauge
 from ._checks import check_count, check_dp, check_positive
 
 
 def _flume(dim, dp, depth, length, beach_slope, width, wave_height, period, ramp_periods, end_time,
-           output_interval, options, name):
+           output_interval, options, name, gauges_x=(1.0, 2.0, 3.0)):
     for n, v in (("depth", depth), ("length", length), ("beach_slope", beach_slope), ("wave_height", wave_height),
                  ("period", period)):
         check_positive(n, v, "m" if n not in ("period", "beach_slope") else ("s" if n == "period" else ""))
@@ -47,13 +48,17 @@ def _flume(dim, dp, depth, length, beach_slope, width, wave_height, period, ramp
         Solid(name="flume", shape=Tank(lo=(x_back, 0.0, 0.0), hi=(x_end, W, top))),
     ]
     fluids = [FluidRegion(shape=Box(lo=(0.0, 0.0, 0.0), hi=(x_end, W, depth)))]
+    probes = [WaveGauge(name=f"x{x:g}", x=x, y=0.5 * W, z0=depth - 2 * wave_height, z1=top, interval=period / 40)
+              for x in gauges_x]
     return Case(name=name, dim=dim, dp=float(dp), end_time=float(end_time),
                 description=f"{dim}D wave flume: piston waves H = {wave_height:g} m, T = {period:g} s in "
                             f"d = {depth:g} m on a 1:{1 / beach_slope:.3g} beach (Biesel piston theory)",
                 fluid=Fluid(depth=depth, surface_level=depth), options=options or SPHOptions(),
-                solids=solids, fluids=fluids, motions=[piston], output=Output(interval=float(output_interval)),
+                solids=solids, fluids=fluids, motions=[piston], probes=probes,
+                output=Output(interval=float(output_interval)),
                 parameters=dict(dp=dp, depth=depth, length=length, beach_slope=beach_slope, width=width,
                                 wave_height=wave_height, period=period, ramp_periods=ramp_periods,
+                                gauges_x=list(gauges_x),
                                 stroke=piston.stroke, wavelength=2 * 3.141592653589793 / piston.wavenumber))
 
 
@@ -65,7 +70,7 @@ def raise_height(h, d):
 
 
 def wave_flume_2d(dp=0.01, depth=0.4, length=6.0, beach_slope=0.1, wave_height=0.05, period=1.2,
-                  ramp_periods=2.0, end_time=10.0, output_interval=0.1, options=None):
+                  ramp_periods=2.0, end_time=10.0, output_interval=0.1, gauges_x=(1.0, 2.0, 3.0), options=None):
     """2D wave flume: piston wavemaker, constant depth, plane beach.
 
     Parameters
@@ -85,13 +90,16 @@ def wave_flume_2d(dp=0.01, depth=0.4, length=6.0, beach_slope=0.1, wave_height=0
         Start-up ramp of the paddle, in periods.
     end_time, output_interval : float
         [s].
+    gauges_x : sequence of float
+        Wave gauges [m from the paddle], sampled 40 times per period
+        (``gauge_x*.csv``).
     """
     return _flume(2, dp, depth, length, beach_slope, None, wave_height, period, ramp_periods, end_time,
-                  output_interval, options, "wave-flume-2d")
+                  output_interval, options, "wave-flume-2d", tuple(gauges_x))
 
 
 def wave_flume_3d(dp=0.02, depth=0.4, length=6.0, beach_slope=0.1, width=0.5, wave_height=0.05, period=1.2,
-                  ramp_periods=2.0, end_time=10.0, output_interval=0.1, options=None):
-    """3D wave flume (the 2D flume extruded over `width` [m], side walls)."""
+                  ramp_periods=2.0, end_time=10.0, output_interval=0.1, gauges_x=(1.0, 2.0, 3.0), options=None):
+    """3D wave flume (the 2D flume extruded over `width` [m], side walls; gauges on the centre line)."""
     return _flume(3, dp, depth, length, beach_slope, width, wave_height, period, ramp_periods, end_time,
-                  output_interval, options, "wave-flume-3d")
+                  output_interval, options, "wave-flume-3d", tuple(gauges_x))

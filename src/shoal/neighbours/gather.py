@@ -184,3 +184,46 @@ def _make_periodic_gather(jit, spec, pair):
         return acc
 
     return gather
+
+
+def make_point_gather(jit, spec, pair):
+    """Return ``gather_at(x, y, z, own, acc, pos, cell_start, gdims, glo, inv_cs, data, P)``: the
+    neighbours of an arbitrary point (a probe), found from its coordinates (internal order: (x, z)
+    in 2D, y ignored) with the grid's lower corner `glo` and 1 / cell size `inv_cs`.
+    ``pair(acc, own, j, dx, dy, dz, r2, sy, data, P)`` as for particles, with r = point - r_j.
+    Periodic images and symmetry planes are not applied to probes (a probe closer than 2h to
+    a periodic face or a symmetry plane sees only the particles on this side)."""
+    n = spec.cells_per_support
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    one = F(1.0)
+
+    @jit
+    def gather_at(x, y, z, own, acc, pos, cell_start, gdims, glo, inv_cs, data, P):
+        nx, ny, nz = gdims
+        ix = int((x - glo[0]) * inv_cs)
+        if dim == 3:
+            iy = int((y - glo[1]) * inv_cs)
+            iz = int((z - glo[2]) * inv_cs)
+        else:
+            iy = 0
+            iz = int((z - glo[1]) * inv_cs)
+        x0 = max(ix - n, 0)
+        x1 = min(ix + n, nx - 1)
+        if x0 > x1:
+            return acc
+        supp2 = P.supp2
+        for zz in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+            for yy in range(max(iy - n, 0), min(iy + n, ny - 1) + 1):
+                row = nx * (yy + ny * zz)
+                for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
+                    dx = F(x - pos[j, 0])
+                    dz = F(z - pos[j, dim - 1])
+                    dy = F(y - pos[j, 1]) if dim == 3 else zero
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 < supp2:
+                        acc = pair(acc, own, j, dx, dy, dz, r2, one, data, P)
+        return acc
+
+    return gather_at

@@ -10,7 +10,7 @@ loop calls them) or ``numba.cuda.jit(device=True)`` for the CUDA backend
 
 from types import SimpleNamespace
 
-from ..neighbours.gather import make_gather
+from ..neighbours.gather import make_gather, make_point_gather
 from .density_diffusion import make_density_diffusion
 from .eos import make_eos
 from .filters import make_filters
@@ -60,6 +60,9 @@ def build_physics(jit, spec, target="cpu"):
                                               make_gather, unpack, plane_accel)
     shepard, mls = make_filters(j, spec, (w, grad_factor), make_gather, unpack)
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
+    from ..probes.interpolate import make_probe
+
+    probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
-                           particle_sps=particle_sps, named_jit=j, unpack=unpack)
+                           particle_sps=particle_sps, probe=probe, named_jit=j, unpack=unpack)

@@ -1,0 +1,108 @@
+"""Probes and wave gauges: SPH interpolation at fixed points (rip-current paper, Eq. 11)."""
+
+import csv
+
+import numpy as np
+import pytest
+
+import shoal
+from shoal.cases import still_water_2d, still_water_3d
+from shoal.probes import PointProbes, WaveGauge, surface_level
+from shoal.runner import build_model
+
+G = 9.81
+
+
+def _ready(case):
+    m = build_model(case)
+    m.sort()
+    return m
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_probe_pressure_is_hydrostatic_at_rest(dim):
+    """Fluid starts with the hydrostatic density: interpolated pressure = rho0 g (H - z) within
+    0.5 % of rho0 g H away from walls and surface (Shepard interpolation of a linear field)."""
+    H = 0.4
+    case = still_water_2d(dp=0.02, depth=H, length=0.8) if dim == 2 else still_water_3d(dp=0.03, depth=0.3,
+                                                                                           length=0.3, width=0.3)
+    H = case.fluid.depth
+    m = _ready(case)
+    zs = np.linspace(0.25 * H, 0.75 * H, 5)
+    pts = np.column_stack([np.full(5, 0.15 if dim == 3 else 0.4), np.full(5, 0.15 if dim == 3 else 0.0), zs])
+    r = m.sample(pts)
+    err = np.max(np.abs(r["pressure"] - 1000 * G * (H - zs))) / (1000 * G * H)
+    assert err < 0.005, err
+    np.testing.assert_allclose(r["kernel_sum"], 1.0, atol=0.01)  # inside the fluid the kernel sum is 1
+    assert np.all(np.abs(r["velocity"]) == 0)
+
+
+def test_shepard_removes_the_free_surface_bias_of_the_plain_sum():
+    """At the free surface the kernel sum is about 1/2: the plain interpolation of the density
+    is about half of rho0 there, the Shepard one stays at rho0."""
+    case = still_water_2d(dp=0.02, depth=0.4, length=0.8)
+    m = _ready(case)
+    pts = np.array([[0.4, 0.0, 0.4]])  # on the surface
+    plain, shep = m.sample(pts, shepard=False), m.sample(pts)
+    assert 0.4 < plain["kernel_sum"][0] < 0.6
+    assert plain["density"][0] == pytest.approx(1000.0 * plain["kernel_sum"][0], rel=1e-3)
+    assert shep["density"][0] == pytest.approx(1000.0, rel=1e-3)
+
+
+def test_linear_velocity_field_is_interpolated():
+    case = still_water_2d(dp=0.02, depth=0.4, length=0.8)
+    dp = case.dp
+    p = case.particles()
+    vel = np.zeros_like(p.positions)
+    vel[:, 0] = 0.1 + 0.5 * p.positions[:, 0] - 0.3 * p.positions[:, 2]
+    vel[p.kinds != 0] = 0
+    m = build_model(case)
+    m.vel[:, :] = vel[:, [0, 2]].astype(m.dtype)
+    m.sort()
+    rng = np.random.default_rng(1)
+    pts = np.column_stack([rng.uniform(0.2, 0.6, 20), np.zeros(20), rng.uniform(0.1, 0.3, 20)])
+    r = m.sample(pts)
+    exact = 0.1 + 0.5 * pts[:, 0] - 0.3 * pts[:, 2]
+    # Shepard interpolation is exact for constants; for a linear field its error is the kernel's
+    # first moment at the point (a fraction of dp) times the gradient
+    assert np.max(np.abs(r["velocity"][:, 0] - exact)) < 0.05 * dp * 0.6
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_wave_gauge_reads_the_still_water_level(dim):
+    """The kernel-sum threshold S = 1/2 finds the surface of still water within dp/10."""
+    case = still_water_2d(dp=0.02, depth=0.4, length=0.8) if dim == 2 else still_water_3d(
+        dp=0.03, depth=0.3, length=0.3, width=0.3)
+    H, dp = case.fluid.depth, case.dp
+    m = _ready(case)
+    z = np.linspace(0.5 * H, 1.5 * H, 201)
+    x, y = (0.4, 0.0) if dim == 2 else (0.15, 0.15)
+    s = m.sample(np.column_stack([np.full_like(z, x), np.full_like(z, y), z]), shepard=False)["kernel_sum"]
+    level = surface_level(z, s)
+    assert abs(level - H) < 0.1 * dp, (level, H)
+
+
+def test_surface_level_helper():
+    z = np.array([0.0, 1.0, 2.0, 3.0])
+    assert surface_level(z, np.array([1.0, 0.9, 0.3, 0.0])) == pytest.approx(1.0 + 0.4 / 0.6)
+    assert np.isnan(surface_level(z, np.zeros(4)))
+    assert surface_level(z, np.ones(4)) == 3.0
+
+
+def test_probes_and_gauges_in_a_run_write_csv(tmp_path):
+    case = still_water_2d(dp=0.04, depth=0.4, length=0.8, end_time=0.05)
+    case = case.model_copy(update={"probes": [
+        PointProbes(name="mid", points=[(0.4, 0, 0.1), (0.4, 0, 0.2)], interval=0.01),
+        WaveGauge(name="g1", x=0.4, z0=0.2, z1=0.6, interval=0.01)]})
+    # the TOML round trip keeps them
+    shoal.write_case(case, tmp_path / "c.toml")
+    assert shoal.load_case(tmp_path / "c.toml").probes == case.probes
+    shoal.run_case(case, tmp_path / "run", plot=False)
+    rows = list(csv.reader(open(tmp_path / "run" / "gauge_g1.csv")))
+    assert rows[0] == ["time", "level"] and len(rows) == 1 + 6  # t = 0, 0.01, ..., 0.05
+    levels = np.array([float(r[1]) for r in rows[1:]])
+    assert np.all(np.abs(levels - 0.4) < 0.1 * 0.04)
+    rows = list(csv.reader(open(tmp_path / "run" / "probe_mid.csv")))
+    assert len(rows[0]) == 1 + 2 * 5 and len(rows) == 7
+    p = np.array([[float(r[4]), float(r[9])] for r in rows[1:]])
+    np.testing.assert_allclose(p, [[1000 * G * 0.3, 1000 * G * 0.2]] * 6, rtol=0.03)
