@@ -106,3 +106,30 @@ def test_probes_and_gauges_in_a_run_write_csv(tmp_path):
     assert len(rows[0]) == 1 + 2 * 5 and len(rows) == 7
     p = np.array([[float(r[4]), float(r[9])] for r in rows[1:]])
     np.testing.assert_allclose(p, [[1000 * G * 0.3, 1000 * G * 0.2]] * 6, rtol=0.03)
+
+
+def test_test_point_grid_and_tracker_in_a_run(tmp_path):
+    import xarray as xr
+
+    from shoal.probes import TestPoints, Tracker
+
+    case = still_water_2d(dp=0.04, depth=0.4, length=0.8, end_time=0.04)
+    case = case.model_copy(update={"probes": [
+        TestPoints(name="tank", lo=(0.2, 0, 0.05), hi=(0.6, 0, 0.35), counts=(5, 1, 4), interval=0.02),
+        Tracker(name="t", start=[(0.4, 0, 0.2), (0.1, 0, 0.1)], ids=[3], interval=0.01)]})
+    shoal.write_case(case, tmp_path / "c.toml")
+    assert shoal.load_case(tmp_path / "c.toml").probes == case.probes
+    shoal.run_case(case, tmp_path / "run", plot=False)
+    ds = xr.open_dataset(tmp_path / "run" / "testpoints_tank.nc", engine="scipy")
+    assert dict(ds.sizes) == {"time": 3, "z": 4, "y": 1, "x": 5}
+    assert ds["p"].attrs["units"] == "Pa" and ds["x"].attrs["units"] == "m" and ds["time"].attrs["units"] == "s"
+    z = ds["z"].values
+    p = ds["p"].isel(time=-1, y=0).values  # (z, x)
+    expect = 1000 * G * (0.4 - z)[:, None]
+    assert np.max(np.abs(p - expect)) / (1000 * G * 0.4) < 0.03
+    rows = list(csv.reader(open(tmp_path / "run" / "track_t.csv")))
+    assert len(rows[0]) == 1 + 3 * 3 and len(rows) == 1 + 5
+    first = np.array([float(v) for v in rows[1][1:]]).reshape(3, 3)
+    # the particles nearest to the start points, and id 3
+    assert np.linalg.norm(first[1] - [0.4, 0, 0.2]) < 0.04 and np.linalg.norm(first[2] - [0.1, 0, 0.1]) < 0.04
+    np.testing.assert_allclose(first[0], case.particles().positions[3], atol=1e-6)

@@ -27,9 +27,9 @@ from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeri
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
            "time_series": TimeSeriesMotion}
-from .probes import PointProbes, WaveGauge
+from .probes import PointProbes, TestPoints, Tracker, WaveGauge
 
-PROBES = {"points": PointProbes, "gauge": WaveGauge}
+PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker}
 _TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
 
 

@@ -169,9 +169,10 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d threads, %s",
              model.n_total, case.n_fluid, case.dp, model.h, model.c0, backend, model.backend.threads(),
              case.options.precision)
-    from .probes import ProbeRecorder
+    from .probes import make_recorder
 
-    recorders = [ProbeRecorder(p, out_dir, case.dp) for p in case.probes]
+    model.sort()  # particles in cell order for the first samples
+    recorders = [make_recorder(p, out_dir, case.dp, model) for p in case.probes]
     for rec in recorders:
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
     writer = SnapshotWriter(out_dir, case.name)

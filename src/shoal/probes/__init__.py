@@ -10,7 +10,12 @@ flushed as it goes, so a crash loses nothing already measured):
   vertical line of sample points (spacing dp/2) where the kernel sum
   S = sum_j V_j W >= 1/2 (water on at least half of the support), linearly
   interpolated between sample points -- the kernel-sum threshold of
-  DualSPHysics's MeasureTool.
+  DualSPHysics's MeasureTool;
+* `TestPoints`: a Cartesian grid of probe nodes (GPUSPH's TESTPOINTS),
+  written at the end of the run as a NetCDF dataset (xarray; coordinates
+  time, z, y, x with CF units; variables u, v, w, p, rho, kernel_sum);
+* `Tracker`: the trajectories of chosen fluid particles (by id, or the
+  particles nearest to given starting points), ``track_<name>.csv``.
 """
 
 from __future__ import annotations
@@ -55,7 +60,45 @@ class WaveGauge(Spec):
         return self
 
 
-AnyProbe = Annotated[Union[PointProbes, WaveGauge], Field(discriminator="type")]
+class TestPoints(Spec):
+    """A grid of `counts` = (nx, ny, nz) nodes spanning [lo, hi] [m] (ny = 1 in
+    2D), sampled every `interval` s; written as ``testpoints_<name>.nc``."""
+
+    __test__ = False  # not a pytest test class
+
+    type: Literal["grid"] = "grid"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    lo: Vec3
+    hi: Vec3
+    counts: tuple[Annotated[int, Field(ge=1, strict=True)], Annotated[int, Field(ge=1, strict=True)],
+                  Annotated[int, Field(ge=1, strict=True)]]
+    interval: PositiveReal
+    shepard: bool = True
+
+    def axes(self):
+        return [np.linspace(a, b, n) if n > 1 else np.array([0.5 * (a + b)])
+                for a, b, n in zip(self.lo, self.hi, self.counts)]
+
+
+class Tracker(Spec):
+    """Trajectories of fluid particles: those with the given `ids`, or the ones
+    nearest to the `start` points at t = 0; every `interval` s to
+    ``track_<name>.csv`` (time, then x, y, z per particle)."""
+
+    type: Literal["tracker"] = "tracker"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    ids: list[Annotated[int, Field(ge=0, strict=True)]] = []
+    start: list[Vec3] = []
+    interval: PositiveReal
+
+    @model_validator(mode="after")
+    def _some(self):
+        if not self.ids and not self.start:
+            raise ValueError("give the particle ids or the start points to track")
+        return self
+
+
+AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker], Field(discriminator="type")]
 
 
 def surface_level(z, s, threshold=0.5):
@@ -70,6 +113,99 @@ def surface_level(z, s, threshold=0.5):
         return float(z[-1])
     s0, s1 = s[k], s[k + 1]
     return float(z[k] + (s0 - threshold) / (s0 - s1) * (z[k + 1] - z[k]))
+
+
+def make_recorder(spec, out_dir, dp, model):
+    """The recorder (a Simulation callback with a `close`) of a probe spec."""
+    if isinstance(spec, TestPoints):
+        return GridRecorder(spec, out_dir)
+    if isinstance(spec, Tracker):
+        return TrackRecorder(spec, out_dir, model)
+    return ProbeRecorder(spec, out_dir, dp)
+
+
+class GridRecorder:
+    """Samples a `TestPoints` grid; writes the NetCDF file on `close`."""
+
+    def __init__(self, spec, out_dir):
+        self.spec = spec
+        self.path = Path(out_dir) / f"testpoints_{spec.name}.nc"
+        x, y, z = spec.axes()
+        self.coords = (x, y, z)
+        Z, Y, X = np.meshgrid(z, y, x, indexing="ij")
+        self.points = np.column_stack([X.ravel(), Y.ravel(), Z.ravel()])
+        self.times, self.samples = [], []
+
+    def __call__(self, sim):
+        r = sim.model.sample(self.points, shepard=self.spec.shepard)
+        self.times.append(sim.time)
+        self.samples.append(r)
+
+    def dataset(self):
+        """The samples as an xarray Dataset (time, z, y, x)."""
+        import xarray as xr
+
+        x, y, z = self.coords
+        shape = (len(self.times), len(z), len(y), len(x))
+
+        def stack(f):
+            return np.array([f(r) for r in self.samples]).reshape(shape)
+
+        units = {"u": "m s-1", "v": "m s-1", "w": "m s-1", "p": "Pa", "rho": "kg m-3", "kernel_sum": "1"}
+        data = {"u": stack(lambda r: r["velocity"][:, 0]), "v": stack(lambda r: r["velocity"][:, 1]),
+                "w": stack(lambda r: r["velocity"][:, 2]), "p": stack(lambda r: r["pressure"]),
+                "rho": stack(lambda r: r["density"]), "kernel_sum": stack(lambda r: r["kernel_sum"])}
+        names = {"u": "x velocity", "v": "y velocity", "w": "z velocity", "p": "pressure", "rho": "density",
+                 "kernel_sum": "SPH kernel sum (1 in water, 1/2 at a free surface, 0 in air)"}
+        ds = xr.Dataset(
+            {k: (("time", "z", "y", "x"), v, {"units": units[k], "long_name": names[k]}) for k, v in data.items()},
+            coords={"time": ("time", np.asarray(self.times), {"units": "s", "standard_name": "time"}),
+                    "x": ("x", x, {"units": "m", "long_name": "cross-shore distance"}),
+                    "y": ("y", y, {"units": "m", "long_name": "alongshore distance"}),
+                    "z": ("z", z, {"units": "m", "long_name": "elevation", "positive": "up"})},
+            attrs={"title": f"shoal test points {self.spec.name}", "Conventions": "CF-1.8",
+                   "interpolation": "Shepard" if self.spec.shepard else "plain SPH sum"})
+        return ds
+
+    def close(self):
+        if self.samples:
+            tmp = self.path.with_suffix(".nc.tmp")
+            self.dataset().to_netcdf(tmp, engine="scipy")
+            tmp.replace(self.path)
+
+
+class TrackRecorder:
+    """Appends the positions of tracked particles to a CSV."""
+
+    def __init__(self, spec, out_dir, model):
+        self.spec = spec
+        self.path = Path(out_dir) / f"track_{spec.name}.csv"
+        ids = list(spec.ids)
+        if spec.start:
+            pos = model.world_positions()
+            idp = model.host(model.idp)
+            fluid = model.host(model.kind) == 0
+            for p in spec.start:
+                d = np.linalg.norm(pos[fluid] - np.asarray(p), axis=1)
+                ids.append(int(idp[fluid][int(np.argmin(d))]))
+        self.ids = np.asarray(ids, dtype=np.int64)
+        self.file = open(self.path, "w", newline="")
+        self.writer = csv.writer(self.file)
+        self.writer.writerow(["time"] + [f"{c}_{i}" for i in self.ids for c in ("x", "y", "z")])
+
+    def __call__(self, sim):
+        m = sim.model
+        idp = m.host(m.idp)
+        slot = np.full(m.n_total, -1, np.int64)
+        slot[idp] = np.arange(len(idp))
+        pos = m.world_positions()
+        rows = slot[self.ids]
+        xyz = np.where(rows[:, None] >= 0, pos[np.maximum(rows, 0)], np.nan)  # NaN once a particle escaped
+        self.writer.writerow([f"{sim.time:.9g}"] + [f"{v:.9g}" for v in xyz.ravel()])
+        self.file.flush()
+
+    def close(self):
+        self.file.close()
 
 
 class ProbeRecorder:
