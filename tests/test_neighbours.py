@@ -32,7 +32,7 @@ def _driver(dim, cps):
         spec = SchemeSpec.from_options(SPHOptions(precision="float64", cells_per_support=cps), dim)
 
         @numba.njit
-        def record(acc, own, j, dx, dy, dz, r2, data, P):
+        def record(acc, own, j, dx, dy, dz, r2, sy, data, P):
             nb = data[0]
             if acc < nb.shape[1]:
                 nb[own, acc] = j
