@@ -211,3 +211,17 @@ def test_probes_match_cpu():
         a, b = out[0][k], out[1][k]
         assert np.max(np.abs(a)) > 0
         assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a)), k
+
+
+@needs_cuda
+def test_free_surface_flags_match_cpu():
+    cpu, gpu = _pair("float64")
+    out = []
+    for m in (cpu, gpu):
+        m.sort()
+        f = m.free_surface()
+        o = np.zeros(m.n_total, np.int8)
+        o[m.host(m.idp)] = f
+        out.append(o)
+    assert out[0].sum() > 0
+    np.testing.assert_array_equal(out[0], out[1])

@@ -278,6 +278,15 @@ class Model:
                     "velocity": vel * inv[:, None]}
         return {"kernel_sum": s, "pressure": o[:, 1], "density": o[:, 2], "velocity": vel}
 
+    def free_surface(self):
+        """(n,) int8 flags of the active particles: 1 on the free surface (Marrone et
+        al. 2010 as in the rip-current paper, `shoal.probes.free_surface`), else 0."""
+        b = self.backend
+        out = self.scratch[(np.dtype(np.int8).str, 0)]
+        b.timed(b.free_surface, self.n, (self.pos, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
+                                         self.grid.gdims_arr, self.P, self.planes, out))
+        return self.host(out).copy()
+
     def apply_damping(self, zones, dt):
         """Apply the damping zones (`shoal.case.DampingZone`) over a step dt [s]."""
         b = self.backend
@@ -461,4 +470,5 @@ class Model:
             "pressure": self.pressure(),
             "id": self.host(self.idp).copy(),
             "kind": self.host(self.kind).astype(np.int32),
+            "free_surface": self.free_surface().astype(np.int32),
         }
