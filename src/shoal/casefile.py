@@ -216,6 +216,15 @@ TABLE_DOCS = {
     ("motions", "depth"): "water depth at the paddle [m]",
     ("fluid", "depth"): "reference depth H [m]: c0 = coef_sound * sqrt(g H)",
     ("", "name"): "case name (output file names)",
+    ("probes", "interval"): "sampling interval [s]",
+    ("probes", "x"): "gauge position [m]",
+    ("probes", "y"): "gauge position [m]",
+    ("probes", "z0"): "bottom of the gauge's search line [m]",
+    ("probes", "z1"): "top of the gauge's search line [m]",
+    ("probes", "shepard"): "Shepard-normalised interpolation (true) or the plain SPH sum",
+    ("probes", "counts"): "grid nodes along x, y, z",
+    ("damping", "rate"): "damping rate [1/s]: velocity x max(1 - dt rate f^2, 0)",
+    ("motions", "start"): "start time [s]",
 }
 KEY_DOCS = {
     "dim": "2 (x-z plane) or 3",
