@@ -114,24 +114,10 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
 
 
 def froude_of_bore(inflow_speed, depth, g=9.81):
-    """Froude number Fr = (U + c) / sqrt(g d0) of the bore made when water of
-    depth d0 flowing at U is stopped by a wall: mass and momentum across the
-    front (Belanger / Rankine-Hugoniot) give the conjugate depth d1 with
-    d1 / d0 = (sqrt(1 + 8 Fr^2) - 1) / 2 and continuity U d0 = c (d1 - d0)
-    behind the front (water at rest there). Solved by bisection on Fr."""
-    U, d0 = float(inflow_speed), float(depth)
-    lo, hi = 1.0, 20.0
-    for _ in range(200):
-        fr = 0.5 * (lo + hi)
-        ratio = 0.5 * (math.sqrt(1 + 8 * fr * fr) - 1)
-        c = fr * math.sqrt(g * d0) - U  # celerity relative to the ground
-        # continuity: (U + c) d0 = c d1  ->  f = (U + c) d0 - c d1
-        f = (U + c) * d0 - c * ratio * d0
-        if f > 0:
-            lo = fr
-        else:
-            hi = fr
-    return 0.5 * (lo + hi)
+    """Froude number (U + c) / sqrt(g d0) of the bore (`shoal.analysis.bore_from_inflow`)."""
+    from ..analysis.bore import bore_from_inflow
+
+    return bore_from_inflow(inflow_speed, depth, g)[2]
 
 
 def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, end_time=1.6, output_interval=0.05,

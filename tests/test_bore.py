@@ -1,0 +1,39 @@
+"""Bore relations: the Belanger state satisfies mass and momentum conservation across the front."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shoal.analysis import arrival_time, bore_from_inflow, celerity
+
+
+@pytest.mark.parametrize("U", [0.3, 0.7, 1.5])
+def test_belanger_state_conserves_mass_and_momentum(U):
+    """In the bore's frame water arrives at U + c with depth d0 and leaves at c with depth d1:
+    (U + c) d0 = c d1 and (U + c)^2 d0 + g d0^2/2 = c^2 d1 + g d1^2/2 (per unit width)."""
+    g, d0 = 9.81, 0.1
+    c, d1, fr = bore_from_inflow(U, d0, g)
+    assert (U + c) * d0 == pytest.approx(c * d1, rel=1e-9)
+    assert (U + c) ** 2 * d0 + g * d0**2 / 2 == pytest.approx(c**2 * d1 + g * d1**2 / 2, rel=1e-9)
+    assert fr == pytest.approx((U + c) / math.sqrt(g * d0), rel=1e-12)
+    assert d1 > d0 and c > 0
+
+
+def test_tidal_bore_paper_regimes():
+    """U = 0.3 m/s gives an undular bore (Fr < ~1.3) and 0.7 m/s a breaking one (Fr > 1.5)
+    (the paper quotes Fr = 1.19 and 1.63 from its measurements)."""
+    assert bore_from_inflow(0.3, 0.1)[2] == pytest.approx(1.24, abs=0.01)
+    assert bore_from_inflow(0.7, 0.1)[2] == pytest.approx(1.59, abs=0.01)
+
+
+def test_celerity_from_gauge_arrivals():
+    c = 0.93
+    xs = np.array([0.5, 1.0, 1.5])
+    t = np.linspace(0, 3, 3001)
+    arrivals = []
+    for x in xs:
+        level = 0.1 + 0.03 * (t > x / c)
+        arrivals.append(arrival_time(t, level, 0.115))
+    assert celerity(xs, arrivals) == pytest.approx(c, rel=2e-3)
+    assert math.isnan(arrival_time(t, np.zeros_like(t), 0.1))
