@@ -73,3 +73,14 @@ def test_run_writes_a_resolved_case_that_runs_again(tmp_path):
     np.testing.assert_array_equal(again.particles().positions, case.particles().positions)
     sim = Simulation(again).run(max_steps=2)  # a Case runs directly, to its own end_time
     assert sim.end_time == case.end_time and sim.step_count == 2 == res.steps
+
+
+def test_tidal_bore_2d_section():
+    case = get_case("tidal-bore", dp=0.01, dim=2, inflow_speed=0.7)
+    p = case.particles()
+    assert case.dim == 2 and p.counts()["fluid"] == 300 * 10
+    assert "breaking" in case.description
+    m = build_model(case)
+    Simulation(m, 1.0).run(max_steps=3)
+    with pytest.raises(InputError, match="2D"):
+        get_case("tidal-bore", dp=0.01, dim=2, half=True)

@@ -50,17 +50,22 @@ PAPER_OPTIONS = dict(kernel="cubic", xsph=0.5, mls_every=30, integrator="predict
 
 
 def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, piers, pier_start, pier_length,
-          constriction):
+          constriction, dim=3):
     check_positive("inflow_speed", inflow_speed, "m/s")
     check_positive("depth", depth, "m")
     if depth >= HEIGHT / 2:
         raise InputError(f"depth = {depth:g} m leaves no room for the bore in a {HEIGHT:g} m deep flume; "
                          f"use depth < {HEIGHT / 2:g} m")
-    W = WIDTH / 2 if half else WIDTH
-    check_dp(dp, min(depth, W if not piers else W - constriction), "the water depth (or the channel width)")
+    if dim not in (2, 3):
+        raise InputError(f"dim = {dim!r}; allowed 2 (the flume's x-z section) or 3")
+    if dim == 2 and (half or piers):
+        raise InputError("the 2D flume (dim = 2) has no width: no half-width model, no piers")
+    W = (WIDTH / 2 if half else WIDTH) if dim == 3 else 0.0
+    check_dp(dp, min(depth, W if not piers else W - constriction) if dim == 3 else depth,
+             "the water depth (or the channel width)")
     g = 9.81
     t_wall = 3 * dp
-    check_count((LENGTH + t_wall) * W * HEIGHT / dp**3, 3)
+    check_count((LENGTH + t_wall) * (W if dim == 3 else dp) * HEIGHT / dp**3, 3)
     open_faces = ["top", "xmax"] + (["ymax"] if half else [])
     solids = [
         Solid(name="inflow wall", shape=Box(lo=(LENGTH, 0.0, 0.0), hi=(LENGTH + t_wall, W, HEIGHT)),
@@ -104,7 +109,7 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
     else:
         gx = {"x0.5": 0.5, "x1.0": 1.0, "x1.5": 1.5}
     probes = [WaveGauge(name=k, x=x, y=y_gauge, z0=0.5 * depth, z1=HEIGHT, interval=0.01) for k, x in gx.items()]
-    return Case(name=name, dim=3, dp=float(dp), end_time=float(end_time), description=desc,
+    return Case(name=name, dim=dim, dp=float(dp), end_time=float(end_time), description=desc,
                 fluid=Fluid(depth=depth, u_max=c0_speed, surface_level=depth),
                 options=options or SPHOptions(**PAPER_OPTIONS),
                 solids=solids, fluids=fluids,
@@ -120,7 +125,7 @@ def froude_of_bore(inflow_speed, depth, g=9.81):
     return bore_from_inflow(inflow_speed, depth, g)[2]
 
 
-def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, end_time=1.6, output_interval=0.05,
+def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, dim=3, end_time=1.6, output_interval=0.05,
                options=None):
     """Tidal bore in the 3 m x 0.3 m x 0.4 m flume (moving-wall inflow).
 
@@ -137,13 +142,16 @@ def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, end_time=1.6,
     half : bool
         Model half the width with a symmetry plane at y = 0.15 m, as the
         paper did (`shoal.case.SymmetryPlane`).
+    dim : {3, 2}
+        2 runs the flume's x-z section (a 2D bore: dp = 0.005 m, 13,610
+        particles, about 15 minutes on 2 cores to t = 1.6 s).
     end_time, output_interval : float
         [s]; the paper ran to 1.6 s.
 
     Wave gauges at x = 0.5, 1.0 and 1.5 m on the centre line record the
     bore every 0.01 s (``gauge_*.csv`` in the run's directory).
     """
-    return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, False, 1.0, 0.6, 0.05)
+    return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, False, 1.0, 0.6, 0.05, dim)
 
 
 def tidal_bore_piers(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, pier_start=1.0, pier_length=0.6,
