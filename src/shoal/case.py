@@ -27,11 +27,11 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, field_validator, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
 
 from .errors import InputError
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
-from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, Vec3
+from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
 from .probes import AnyProbe
 from .options import SPHOptions
@@ -157,15 +157,7 @@ class WallPlane(Spec):
     (`shoal.physics.planes`); free-slip. Fluid behind it is not generated."""
 
     point: Vec3
-    normal: Vec3
-
-    @field_validator("normal")
-    @classmethod
-    def _unit(cls, v):
-        n = np.asarray(v, float)
-        if not np.linalg.norm(n) > 0:
-            raise ValueError("normal must be a non-zero vector")
-        return tuple(float(x) for x in n / np.linalg.norm(n))
+    normal: UnitVec3
 
 
 class DampingZone(Spec):

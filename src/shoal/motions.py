@@ -23,9 +23,9 @@ from pathlib import Path
 from typing import Annotated, Literal, Union
 
 import numpy as np
-from pydantic import Field, PrivateAttr, ValidationInfo, field_validator
+from pydantic import Field, PrivateAttr
 
-from .geometry.shapes import PositiveReal, Spec, Vec3
+from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
 
 _G = 9.81
 
@@ -211,18 +211,9 @@ class TimeSeriesMotion(Motion):
     """
 
     type: Literal["time_series"] = "time_series"
-    file: str
+    file: CasePath
     scale: Annotated[float, Field(allow_inf_nan=False, strict=True)] = 1.0
     _spline: object = PrivateAttr(default=None)
-
-    @field_validator("file")
-    @classmethod
-    def _resolve(cls, v, info: ValidationInfo):
-        base = (info.context or {}).get("base_dir")
-        p = Path(v)
-        if not p.is_absolute() and base is not None:
-            p = Path(base) / p
-        return str(p)
 
     def _load(self):
         from scipy.interpolate import CubicSpline

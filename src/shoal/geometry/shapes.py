@@ -24,8 +24,8 @@ from pathlib import Path
 from typing import Annotated, Callable, ClassVar, Literal, Union
 
 import numpy as np
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator,
-                      model_validator)
+from pydantic import (AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo,
+                      field_validator, model_validator)
 
 from ..errors import InputError
 
@@ -40,6 +40,27 @@ PositiveReal = Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)]
 Vec2 = Annotated[tuple[Real, Real], BeforeValidator(_to_list)]
 Vec3 = Annotated[tuple[Real, Real, Real], BeforeValidator(_to_list)]
 RealList = Annotated[list[Real], BeforeValidator(_to_list)]
+
+
+def _unit_vector(v):
+    n = np.asarray(v, float)
+    if not np.linalg.norm(n) > 0:
+        raise ValueError("normal must be a non-zero vector")
+    return tuple(float(x) for x in n / np.linalg.norm(n))
+
+
+def _case_relative(v, info: ValidationInfo):
+    base = (info.context or {}).get("base_dir")
+    p = Path(v)
+    if not p.is_absolute() and base is not None:
+        p = Path(base) / p
+    return str(p)
+
+
+UnitVec3 = Annotated[Vec3, AfterValidator(_unit_vector)]
+"""A direction, normalised to unit length (a zero vector is refused)."""
+CasePath = Annotated[str, AfterValidator(_case_relative)]
+"""A file path; relative paths are relative to the case file's directory."""
 
 FACES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 Face = Literal["xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "top", "bottom"]
@@ -161,17 +182,9 @@ class Plane(Shape):
 
     type: Literal["plane"] = "plane"
     point: Vec3
-    normal: Vec3
+    normal: UnitVec3
     lo: Vec3 | None = None
     hi: Vec3 | None = None
-
-    @field_validator("normal")
-    @classmethod
-    def _unit(cls, v):
-        n = np.asarray(v, float)
-        if not np.linalg.norm(n) > 0:
-            raise ValueError("normal must be a non-zero vector")
-        return tuple(float(x) for x in n / np.linalg.norm(n))
 
     def contains(self, points, dim, pad=0.0):
         n = np.asarray(self.normal)
@@ -388,7 +401,7 @@ class Bathymetry(Shape):
     type: Literal["bathymetry"] = "bathymetry"
     profile: Profile | None = None
     grid: HeightGrid | None = None
-    file: str | None = None
+    file: CasePath | None = None
     function: Annotated[Callable | None, Field(exclude=True)] = None
     base: Real | None = None
 
@@ -399,17 +412,6 @@ class Bathymetry(Shape):
             raise ValueError("a function is Python-API only: a case file is data and cannot hold code; "
                              "give the bed as a profile, a grid or a file")
         return v
-
-    @field_validator("file")
-    @classmethod
-    def _resolve(cls, v, info: ValidationInfo):
-        if v is None:
-            return v
-        base = (info.context or {}).get("base_dir")
-        p = Path(v)
-        if not p.is_absolute() and base is not None:
-            p = Path(base) / p
-        return str(p)
 
     @model_validator(mode="after")
     def _one(self):
@@ -461,18 +463,9 @@ class Mesh(Shape):
     relative to the case file. 3D cases only."""
 
     type: Literal["mesh"] = "mesh"
-    file: str
+    file: CasePath
     scale: PositiveReal = 1.0
     offset: Vec3 = (0.0, 0.0, 0.0)
-
-    @field_validator("file")
-    @classmethod
-    def _resolve(cls, v, info: ValidationInfo):
-        base = (info.context or {}).get("base_dir")
-        p = Path(v)
-        if not p.is_absolute() and base is not None:
-            p = Path(base) / p
-        return str(p)
 
     def triangles(self):
         from .mesh import load_stl
