@@ -15,7 +15,18 @@ flushed as it goes, so a crash loses nothing already measured):
   written at the end of the run as a NetCDF dataset (xarray; coordinates
   time, z, y, x with CF units; variables u, v, w, p, rho, kernel_sum);
 * `Tracker`: the trajectories of chosen fluid particles (by id, or the
-  particles nearest to given starting points), ``track_<name>.csv``.
+  particles nearest to given starting points), ``track_<name>.csv``;
+* `MaxZGauge`: the highest fluid particle within a horizontal distance of
+  (x, y) (DualSPHysics's GaugeMaxZ), ``maxz_<name>.csv``;
+* `RunupGauge`: the highest elevation reached by fluid particles in a
+  cross-shore range [x0, x1] (and a y band in 3D), and where: the shoreline
+  run-up on a beach, ``runup_<name>.csv``.
+
+The max-z and run-up gauges read particle centres, as DualSPHysics's
+GaugeMaxZ does: in still water the top particles sit dp/2 below the free
+surface (the lattice puts them at (i + 1/2) dp), so both read the
+still-water level minus about dp/2. Every fluid particle counts, so a
+detached splash above the range counts too.
 """
 
 from __future__ import annotations
@@ -98,7 +109,43 @@ class Tracker(Spec):
         return self
 
 
-AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker], Field(discriminator="type")]
+class MaxZGauge(Spec):
+    """The highest fluid particle centre [m] within a horizontal distance
+    `radius` [m] of (x, y) (2D: |x_j - x| <= radius), every `interval` s,
+    written to ``maxz_<name>.csv`` (time, zmax; NaN when no fluid particle
+    is within reach) -- DualSPHysics's GaugeMaxZ."""
+
+    type: Literal["maxz"] = "maxz"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    x: Real
+    y: Real = 0.0
+    radius: PositiveReal
+    interval: PositiveReal
+
+
+class RunupGauge(Spec):
+    """Shoreline run-up: the highest fluid particle centre [m] with x0 <= x_j
+    <= x1 (and, in 3D, |y_j - y| <= band / 2; `band` omitted: every y),
+    every `interval` s, written to ``runup_<name>.csv`` (time, zmax and the
+    x, y of that particle; NaN when the range holds no fluid)."""
+
+    type: Literal["runup"] = "runup"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    x0: Real
+    x1: Real
+    y: Real = 0.0
+    band: PositiveReal | None = None
+    interval: PositiveReal
+
+    @model_validator(mode="after")
+    def _range(self):
+        if not self.x1 > self.x0:
+            raise ValueError(f"x1 = {self.x1} must be beyond x0 = {self.x0}")
+        return self
+
+
+AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge],
+                     Field(discriminator="type")]
 
 
 def surface_level(z, s, threshold=0.5):
@@ -121,6 +168,8 @@ def make_recorder(spec, out_dir, dp, model):
         return GridRecorder(spec, out_dir)
     if isinstance(spec, Tracker):
         return TrackRecorder(spec, out_dir, model)
+    if isinstance(spec, (MaxZGauge, RunupGauge)):
+        return MaxZRecorder(spec, out_dir)
     return ProbeRecorder(spec, out_dir, dp)
 
 
@@ -239,6 +288,74 @@ class ProbeRecorder:
             r = m.sample(self.points, shepard=self.spec.shepard)
             vals = np.column_stack([r["velocity"], r["pressure"], r["density"]])
             row = [sim.time] + vals.ravel().tolist()
+        self.rows.append(row)
+        self.writer.writerow([f"{v:.9g}" for v in row])
+        self.file.flush()
+
+    def close(self):
+        self.file.close()
+
+
+def highest_fluid(positions, kinds, dim, spec):
+    """The highest fluid particle a `MaxZGauge` or `RunupGauge` sees.
+
+    Parameters
+    ----------
+    positions : ndarray, shape (N, 3)
+        Particle positions in world coordinates [m] (y = 0 in 2D).
+    kinds : ndarray, shape (N,)
+        Particle kinds; 0 is fluid.
+    dim : {2, 3}
+        Dimension of the run: in 2D the y coordinates are ignored.
+    spec : MaxZGauge or RunupGauge
+        The gauge.
+
+    Returns
+    -------
+    tuple of float
+        (zmax, x, y) of the highest fluid particle centre in the gauge's
+        region [m], NaNs when the region holds no fluid particle.
+    """
+    pos = np.asarray(positions, float)
+    sel = np.asarray(kinds) == 0
+    if isinstance(spec, MaxZGauge):
+        if dim == 3:
+            d2 = (pos[:, 0] - spec.x) ** 2 + (pos[:, 1] - spec.y) ** 2
+            sel &= d2 <= spec.radius**2
+        else:
+            sel &= np.abs(pos[:, 0] - spec.x) <= spec.radius
+    else:
+        sel &= (pos[:, 0] >= spec.x0) & (pos[:, 0] <= spec.x1)
+        if dim == 3 and spec.band is not None:
+            sel &= np.abs(pos[:, 1] - spec.y) <= 0.5 * spec.band
+    if not sel.any():
+        return (float("nan"),) * 3
+    cand = pos[sel]
+    k = int(np.argmax(cand[:, 2]))
+    return float(cand[k, 2]), float(cand[k, 0]), float(cand[k, 1])
+
+
+class MaxZRecorder:
+    """Samples a `MaxZGauge` or a `RunupGauge` (NumPy over the host copies of
+    the particle positions) and appends to its CSV."""
+
+    def __init__(self, spec, out_dir):
+        self.spec = spec
+        if isinstance(spec, MaxZGauge):
+            self.path = Path(out_dir) / f"maxz_{spec.name}.csv"
+            header = ["time", "zmax"]
+        else:
+            self.path = Path(out_dir) / f"runup_{spec.name}.csv"
+            header = ["time", "zmax", "x", "y"]
+        self.file = open(self.path, "w", newline="")
+        self.writer = csv.writer(self.file)
+        self.writer.writerow(header)
+        self.rows = []
+
+    def __call__(self, sim):
+        m = sim.model
+        z, x, y = highest_fluid(m.world_positions(), m.host(m.kind), m.dim, self.spec)
+        row = [sim.time, z] if isinstance(self.spec, MaxZGauge) else [sim.time, z, x, y]
         self.rows.append(row)
         self.writer.writerow([f"{v:.9g}" for v in row])
         self.file.flush()
