@@ -150,6 +150,25 @@ def test_sps_rates_match_cpu():
 
 
 @needs_cuda
+def test_no_slip_walls_match_cpu():
+    """The no-slip wall-velocity pass (Adami et al. 2012) and the boundary viscosity factor give the
+    CPU's rates on the CUDA backend."""
+    cpu, gpu = _pair("float64", no_slip=True, visco_bound_factor=0.5)
+    rng = np.random.default_rng(5)
+    v = 0.2 * rng.standard_normal(cpu.vel.shape)
+    v[cpu.host(cpu.kind) != 0] = 0
+    cpu.vel[:] = v
+    gpu.vel.copy_to_device(v)
+    for m in (cpu, gpu):
+        m.sort()
+        m.compute_rates()
+    for name in ("vwall", "ace", "drho"):
+        a, b = _by_id(cpu, getattr(cpu, name)), _by_id(gpu, getattr(gpu, name))
+        assert np.max(np.abs(a)) > 0
+        assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a)), name
+
+
+@needs_cuda
 def test_repulsive_walls_and_planes_match_cpu():
     """Monaghan-Kajtar walls and a wall plane: the same motion on the CUDA backend (8 steps of a small tank)."""
     from shoal.case import Case, Fluid, FluidRegion, Solid, WallPlane

@@ -28,22 +28,22 @@ D, NU, F = 1e-3, 1e-6, 2e-4
 UMAX = F * D**2 / (8 * NU)
 
 
-def poiseuille_case(n, end_time, layers=3):
+def poiseuille_case(n, end_time, layers=3, **options):
     dp = D / n
     L = 16 * dp
     return shoal.Case(
         name="poiseuille", dim=2, dp=dp, end_time=end_time,
         fluid=shoal.Fluid(u_max=UMAX, gravity=(F, 0, 0)),
         options={"viscosity": "laminar", "nu": NU, "coef_sound": 10.0, "density_diffusion": "none",
-                 "precision": "float64"},
+                 "precision": "float64", **options},
         solids=[shoal.Solid(name="bottom", shape=Box(lo=(0, 0, -layers * dp), hi=(L, 0, 0)), layers=layers),
                 shoal.Solid(name="top", shape=Box(lo=(0, 0, D), hi=(L, 0, D + layers * dp)), layers=layers)],
         fluids=[shoal.FluidRegion(shape=Box(lo=(0, 0, 0), hi=(L, 0, D)))],
         domain=Domain(lo=(0, 0, -layers * dp), hi=(L, 0, D + layers * dp), periodic=["x"]))
 
 
-def _run(n, t):
-    case = poiseuille_case(n, t)
+def _run(n, t, **options):
+    case = poiseuille_case(n, t, **options)
     m = build_model(case)
     sim = shoal.Simulation(m, t).run()
     assert m.n_escaped == 0 and sim.time == pytest.approx(t)
@@ -153,6 +153,32 @@ def test_poiseuille_start_up_follows_the_series_solution():
     print(f"start-up at t = 0.05 s: max error / u_max {err:.4f} (u_max now {u.max() / UMAX:.3f} of steady)")
     assert 0.3 < u.max() / UMAX < 0.9
     assert err < 0.03
+
+
+def test_poiseuille_with_no_slip_walls_matches_the_nominal_walls():
+    """With the no-slip wall velocity of Adami et al. (2012) the no-slip plane is the wall surface
+    (half a spacing in front of the first boundary layer), so the profile matches the analytic one
+    for the nominal walls z = 0 and z = D: measured 2.2 % of u_max at D/dp = 20 (13.3 % without),
+    within the 3 % the validation asks; the start-up (t = 0.05 s) follows the series for the
+    nominal channel."""
+    z, u, w, dp = _run(20, 0.6, no_slip=True)
+    err = np.max(np.abs(u - F / (2 * NU) * z * (D - z))) / UMAX
+    print(f"Poiseuille, no-slip walls, D/dp = 20: max error / u_max {err:.4f}")
+    assert err < 0.03
+    assert np.max(np.abs(w)) < 1e-3 * UMAX
+    z, u, _, dp = _run(20, 0.05, no_slip=True)
+    err = np.max(np.abs(u - _series_width(z, 0.05, D))) / UMAX
+    print(f"start-up, no-slip walls: max error / u_max {err:.4f}")
+    assert err < 0.03
+
+
+def test_free_slip_walls_give_plug_flow():
+    """visco_bound_factor = 0 (DualSPHysics's ViscoBoundFactor) removes the walls' viscous force: with
+    no shear anywhere the body force accelerates every particle alike, u = F t (no wall friction)."""
+    t = 0.05
+    z, u, w, dp = _run(20, t, visco_bound_factor=0.0)
+    assert np.max(np.abs(u - F * t)) < 1e-6 * F * t
+    assert np.max(np.abs(w)) < 1e-9
 
 
 def _series_width(z, t, width, terms=200):

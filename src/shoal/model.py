@@ -196,6 +196,7 @@ class Model:
         self.pr2 = b.zeros(n, F)
         self.xsph = b.zeros((n, dim) if self.spec.xsph else (1, dim), F)
         self.tau = b.zeros((n, 3 if dim == 2 else 6) if self.spec.sps else (1, 3 if dim == 2 else 6), F)
+        self.vwall = b.zeros((n, dim) if self.spec.no_slip else (1, dim), F)
         self.scratch = {
             (np.dtype(np.float64).str, dim): b.zeros((n, dim), np.float64),
             (np.dtype(F).str, dim): b.zeros((n, dim), F),
@@ -328,7 +329,7 @@ class Model:
     def nbytes(self):
         """Bytes of particle, work and grid arrays held by the model."""
         arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.vmax,
-                  self.pr2, self.xsph, self.tau, *self.scratch.values(), *self.extra_arrays]
+                  self.pr2, self.xsph, self.tau, self.vwall, *self.scratch.values(), *self.extra_arrays]
         if self.motion_of is not None:
             arrays += [self.pos_init, self.motion_of]
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
@@ -380,7 +381,10 @@ class Model:
                                self.grid.gdims_arr, P, self.tau))
         b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                              self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
-                             self.vmax, self.tau, self.planes, self.ptable))
+                             self.vmax, self.tau, self.planes, self.ptable, self.vwall))
+        if self.spec.no_slip:
+            b.timed(b.wall_velocity, n, (self.pos, self.vel, self.kind, self.grid.cell, self.grid.cell_start,
+                                         self.grid.gdims_arr, P, self.vwall))
 
     def time_step_limit(self):
         """Variable time step of Monaghan & Kos (1999), as in DualSPHysics:

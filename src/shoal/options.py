@@ -61,6 +61,21 @@ class SPHOptions:
         Artificial viscosity coefficient (DualSPHysics dam break: 0.1).
     nu : float
         Kinematic viscosity [m^2/s] for the laminar model (water: 1e-6).
+    visco_bound_factor : float
+        Factor on the viscous term (artificial or laminar) between a fluid
+        particle and a boundary particle (DualSPHysics's ViscoBoundFactor,
+        default 1). The artificial viscosity alpha h c0 is a numerical
+        viscosity hundreds of times water's, and on a wall it acts as a bed
+        friction of that size; 0 makes the walls free-slip for the viscous
+        term (the pressure term still keeps fluid out). Bores and waves over
+        a flat bed, whose theory is frictionless, are run with 0.
+    no_slip : bool
+        Walls enter the viscous term with the no-slip velocity of Adami, Hu &
+        Adams (2012), u_b = 2 u_wall - (Shepard average of the fluid velocity
+        at the boundary particle), so the no-slip condition holds at the wall
+        surface rather than at the first boundary layer (`shoal.physics.no_slip`).
+        Off by default (DualSPHysics's DBC: boundary particles carry the wall
+        velocity).
     density_diffusion : {"none", "molteni", "fourtakas"}
         Density diffusion term: Molteni & Colagrossi (2009) or Fourtakas et
         al. (2019) (with the hydrostatic correction). Default "fourtakas".
@@ -118,6 +133,8 @@ class SPHOptions:
     viscosity: str = "artificial"
     alpha: float = 0.1
     nu: float = 1.0e-6
+    visco_bound_factor: float = 1.0
+    no_slip: bool = False
     density_diffusion: str = "fourtakas"
     delta: float = 0.1
     xsph: float = 0.0
@@ -147,6 +164,7 @@ class SPHOptions:
         _positive("coef_sound", self.coef_sound)
         _positive("alpha", self.alpha, allow_zero=True)
         _positive("nu", self.nu, allow_zero=True)
+        _positive("visco_bound_factor", self.visco_bound_factor, allow_zero=True)
         _positive("delta", self.delta, allow_zero=True)
         _positive("xsph", self.xsph, allow_zero=True)
         _positive("cfl", self.cfl)

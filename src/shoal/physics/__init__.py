@@ -19,9 +19,32 @@ from .rates import make_rates
 from .spec import FIXED, FLUID, MOVING, Params, SchemeSpec, make_params, make_unpack
 from .planes import make_plane_force
 from .turbulence import make_sps
+from .no_slip import make_wall_velocity
 from .viscosity import make_viscosity
 
 __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIXED", "MOVING"]
+
+
+def _source_hash():
+    """Hash of the kernel source files (physics, neighbours, timestepping,
+    backends, probe kernels): part of every compiled function's cache
+    identity, so that editing any module a kernel inlines (not only the file
+    that defines the outer loop, which is all Numba's cache checks)
+    recompiles instead of loading a stale kernel."""
+    import hashlib
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    files = [f for d in ("physics", "neighbours", "timestepping", "backends") for f in (root / d).rglob("*.py")]
+    files += [root / "probes" / "interpolate.py", root / "probes" / "free_surface.py"]
+    h = hashlib.sha1()
+    for f in sorted(files):
+        h.update(f.relative_to(root).as_posix().encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:12]
+
+
+_SOURCE = None
 
 
 def _named(jit, prefix):
@@ -49,7 +72,10 @@ def build_physics(jit, spec, target="cpu"):
     Returns a namespace with ``pressure``, ``particle_pr2``, ``particle_rates``, ``shepard``,
     ``mls``, ``w`` and ``grad_factor``.
     """
-    j = _named(jit, f"shoal:{target}:{spec.key}")
+    global _SOURCE
+    if _SOURCE is None:
+        _SOURCE = _source_hash()
+    j = _named(jit, f"shoal:{_SOURCE}:{target}:{spec.key}")
     unpack = make_unpack(j)
     w, grad_factor = make_kernels(j, spec)
     pressure = make_eos(j, spec)
@@ -60,6 +86,7 @@ def build_physics(jit, spec, target="cpu"):
                                               make_gather, unpack, plane_accel)
     shepard, mls = make_filters(j, spec, (w, grad_factor), make_gather, unpack)
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
+    particle_wall_velocity = make_wall_velocity(j, spec, (w, grad_factor), make_gather, unpack)
     from ..probes.interpolate import make_probe
 
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
@@ -68,5 +95,5 @@ def build_physics(jit, spec, target="cpu"):
     free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
-                           particle_sps=particle_sps, probe=probe, free_surface=free_surface, named_jit=j,
+                           particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity, probe=probe, free_surface=free_surface, named_jit=j,
                            unpack=unpack)

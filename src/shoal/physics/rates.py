@@ -6,7 +6,8 @@ Momentum with the symmetric pressure term, viscosity and gravity:
     d v_i/dt = -sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + R_ij + Pi_ij) grad_i W_ij
                + sum_j lam_ij v_ij + g
 (R_ij the Monaghan (2000) tensile correction when enabled, Pi_ij the
-artificial and lam_ij the laminar viscous term, see `viscosity`.)
+artificial and lam_ij the laminar viscous term, see `viscosity`; both
+multiplied by `visco_bound_factor` when j is a boundary particle.)
 XSPH (Monaghan 1989): dx_i/dt = v_i + eps sum_j (m_j / rho_ij) v_ji W_ij.
 SPS turbulence (when on): + sum_j m_j (tau_i/rho_i^2 + tau_j/rho_j^2) . grad_i W_ij
 between fluid particles, tau from `turbulence` (Dalrymple & Rogers 2006).
@@ -32,7 +33,10 @@ from .spec import FLUID, REPULSIVE
 
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack, plane_accel=None):
     """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
-    grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable)``, which writes particle i's rates.
+    grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable, vwall)``, which writes particle i's rates.
+
+    `vwall` holds the boundary particles' no-slip velocities (`no_slip`; read
+    only when the scheme has ``no_slip``).
 
     `planes` (n, 4) and `ptable` are the wall planes and their force table
     (`shoal.physics.planes`; read only when the scheme has planes).
@@ -53,6 +57,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     use_sps = spec.sps
     use_mk = spec.repulsive
     use_planes = spec.planes
+    no_slip = spec.no_slip
     two, halfq = F(2.0), F(0.5)
     t_pos, t_neg = F(0.01), F(-0.2)
 
@@ -60,7 +65,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     def fluid_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         ax, ay, az, dr, xx, xy, xz, vmax = acc
         vix, viy, viz, rhoi, pr2i, ti, t0, t1, t2, t3, t4, t5 = own
-        vel, rho, pr2, kind, tau = data
+        vel, rho, pr2, kind, tau, vwall = data
         r = r2 ** F(0.5)
         q = r * P.inv_h
         fr = grad_factor(q, P)
@@ -75,6 +80,8 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
                 vdotr = ux * dx + uy * dy + uz * dz
                 pi_ij, lam = viscous(vdotr, r2, fr, P.mass_f, rhoi, P.rho0, P)
+                pi_ij *= P.visc_bound
+                lam *= P.visc_bound
                 f = c - P.mass_f * pi_ij * fr
                 vmax = max(vmax, abs(P.h * vdotr / (r2 + P.eta2)))
                 return (ax + f * dx + lam * ux, ay + f * dy + lam * uy, az + f * dz + lam * uz, dr, xx, xy, xz,
@@ -99,11 +106,22 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             wq2 = wq * wq
             tj = pr2j * (t_pos if pr2j > zero else t_neg)
             prs += wq2 * wq2 * (ti + tj)
-        pi_ij, lam = viscous(vdotr, r2, fr, mj, rhoi, rhoj, P)
+        # viscous term: against a boundary particle, its no-slip velocity when enabled (`no_slip`)
+        wx, wy, wz, vdotr_v = ux, uy, uz, vdotr
+        if no_slip:
+            if not is_fluid:
+                wx = vix - vwall[j, 0]
+                wz = viz - vwall[j, dim - 1]
+                wy = viy - sy * vwall[j, 1] if dim == 3 else zero
+                vdotr_v = wx * dx + wy * dy + wz * dz
+        pi_ij, lam = viscous(vdotr_v, r2, fr, mj, rhoi, rhoj, P)
+        if not is_fluid:
+            pi_ij *= P.visc_bound
+            lam *= P.visc_bound
         f = -mj * (prs + pi_ij) * fr
-        ax += f * dx + lam * ux
-        ay += f * dy + lam * uy
-        az += f * dz + lam * uz
+        ax += f * dx + lam * wx
+        ay += f * dy + lam * wy
+        az += f * dz + lam * wz
         if use_sps:
             if is_fluid:
                 # (tau_i/rho_i^2 + tau_j/rho_j^2) . grad W, grad W = fr r_ij
@@ -131,7 +149,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     @jit
     def bound_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         vix, viy, viz = own
-        vel, rho, pr2, kind, tau = data
+        vel, rho, pr2, kind, tau, vwall = data
         if kind[j] != FLUID:
             return acc
         q = r2 ** F(0.5) * P.inv_h
@@ -153,13 +171,13 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
 
     @jit
     def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax,
-                       tau, planes, ptable):
+                       tau, planes, ptable, vwall):
         P = unpack(Parr)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         vix = vel[i, 0]
         viz = vel[i, dim - 1]
         viy = vel[i, 1] if dim == 3 else zero
-        data = (vel, rho, pr2, kind, tau)
+        data = (vel, rho, pr2, kind, tau, vwall)
         if kind[i] == FLUID:
             pr2i = pr2[i]
             ti = pr2i * (t_pos if pr2i > zero else t_neg)

@@ -46,6 +46,8 @@ class SchemeSpec:
     """The run has wall planes (`shoal.physics.planes`)."""
     symmetry: int = 0
     """A symmetry plane y = const (3D): 0 none, 1 fluid on the low side, 2 on the high side."""
+    no_slip: bool = False
+    """Boundary particles enter the viscous term with the no-slip velocity of Adami et al. (2012)."""
 
     @classmethod
     def from_options(cls, options, dim, periodic=(), repulsive=False, planes=False, symmetry=0):
@@ -64,6 +66,7 @@ class SchemeSpec:
             repulsive=bool(repulsive),
             planes=bool(planes),
             symmetry=int(symmetry),
+            no_slip=bool(options.no_slip),
         )
 
     @property
@@ -71,7 +74,7 @@ class SchemeSpec:
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
-                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}")
+                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}-n{int(self.no_slip)}")
 
     @property
     def float_type(self):
@@ -82,7 +85,7 @@ Params = namedtuple("Params", [
     "h", "inv_h", "supp2", "eta2",
     "aw", "agrad", "inv_wdp",
     "rho0", "inv_rho0", "B", "c0", "rho0_c02",
-    "alpha", "nu4", "ddt_coef",
+    "alpha", "nu4", "ddt_coef", "visc_bound",
     "mass_f", "mass_b",
     "gx", "gy", "gz",
     "xsph_eps",
@@ -99,7 +102,8 @@ normalisation such that grad W = agrad * g(q) * r_ij; inv_wdp = 1/W(dp)
 (tensile correction). rho0 [kg/m^3]; B = c0^2 rho0 / gamma [Pa]; c0 [m/s];
 rho0_c02 = rho0 / c0^2 [kg s^2/m^5] (Fourtakas
 hydrostatic density difference, linearised EOS). alpha: artificial
-viscosity; nu4 = 4 nu [m^2/s]; ddt_coef = 2 delta h c0. mass_f, mass_b:
+viscosity; nu4 = 4 nu [m^2/s]; ddt_coef = 2 delta h c0; visc_bound: factor on
+the viscous term of fluid-boundary pairs (DualSPHysics's ViscoBoundFactor). mass_f, mass_b:
 fluid and boundary particle masses [kg]. gx, gy, gz: gravity [m/s^2] in the
 internal components (2D runs store (x, z) and use gx, gz). xsph_eps: XSPH
 epsilon. sps_smag = (Cs dp)^2 [m^2], sps_blin = (2/3) C_I dp^2 [m^2]: SPS
@@ -144,7 +148,7 @@ def make_unpack(jit):
         # (the CUDA simulator runs kernels as Python)
         return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
                       r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
-                      r["ddt_coef"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
+                      r["ddt_coef"], r["visc_bound"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
                       r["sps_smag"], r["sps_blin"], r["mk_k"], r["per_len_x"], r["per_len_y"], r["sym_y"], r["grid_lo_y"],
                       r["inv_cs"], r["dim"])
 
@@ -185,6 +189,7 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
         aw=aw, agrad=agrad, inv_wdp=1.0 / wdp if wdp > 0 else 0.0,
         rho0=rho0, inv_rho0=1.0 / rho0, B=B, c0=c0, rho0_c02=rho0 / (c0 * c0),
         alpha=options.alpha, nu4=4.0 * options.nu, ddt_coef=2.0 * options.delta * h * c0,
+        visc_bound=options.visco_bound_factor,
         mass_f=mass_f, mass_b=mass_b, gx=gx, gy=gy, gz=gz, xsph_eps=options.xsph,
         sps_smag=(options.sps_cs * dp) ** 2, sps_blin=(2.0 / 3.0) * options.sps_ci * dp * dp,
         mk_k=mk_k,
