@@ -186,6 +186,38 @@ class Output(Spec):
     interval: PositiveReal = 0.05
 
 
+NonNegativeReal = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
+
+
+class Checkpointing(Spec):
+    """When a run writes checkpoints (``ckpt_NNNNNN.h5``, the whole state, for
+    ``shoal run --resume``; see `shoal.simulation.checkpoint`).
+
+    A checkpoint is written every `interval` s of simulated time and every
+    `wall_interval` s of wall-clock time (whichever comes first; 0 turns
+    either off), when the run stops on SIGINT/SIGTERM, and at the end of the
+    run. Checkpoint times never shorten a time step, so a run gives the same
+    result with or without them.
+
+    Attributes
+    ----------
+    interval : float
+        Simulated time between checkpoints [s]; 0 (default): none on
+        simulated time.
+    wall_interval : float
+        Wall-clock time between checkpoints [s]; default 900 (15 minutes, as
+        GROMACS's default): a crash or a killed job loses at most that much
+        computing. 0: none on wall-clock time.
+    keep : int
+        How many checkpoints to keep (the newest; default 2, so a file
+        damaged by a crash while it was written still leaves an older one).
+    """
+
+    interval: NonNegativeReal = 0.0
+    wall_interval: NonNegativeReal = 900.0
+    keep: Annotated[int, Field(ge=1, strict=True)] = 2
+
+
 class Case(BaseModel):
     """A simulation set-up (see the module docstring for an example).
 
@@ -214,6 +246,13 @@ class Case(BaseModel):
     lattice_origin : 3 floats
         Particles sit at lattice_origin + (i + 1/2) dp.
     output : Output
+    checkpoint : Checkpointing
+        When checkpoints are written (and how many kept).
+    max_escaped_fraction : float
+        The run stops (exit status 3) when more than this fraction of the
+        fluid particles has left the domain; default 1: never (DualSPHysics's
+        PartsOutMax, same meaning and default). Escaped particles are listed
+        in ``escaped.csv`` either way.
     description : str
         What the case is and what it is compared with.
     parameters : dict
@@ -239,6 +278,8 @@ class Case(BaseModel):
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
     output: Output = Output()
+    checkpoint: Checkpointing = Checkpointing()
+    max_escaped_fraction: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False, strict=True)] = 1.0
     parameters: dict[str, Any] = {}
 
     _particles: Particles | None = PrivateAttr(default=None)

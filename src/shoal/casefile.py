@@ -225,6 +225,10 @@ TABLE_DOCS = {
     ("probes", "counts"): "grid nodes along x, y, z",
     ("damping", "rate"): "damping rate [1/s]: velocity x max(1 - dt rate f^2, 0)",
     ("motions", "start"): "start time [s]",
+    ("checkpoint", "interval"): "simulated time between checkpoints [s] (0 = none)",
+    ("checkpoint", "wall_interval"): "wall-clock time between checkpoints [s] (0 = none)",
+    ("checkpoint", "keep"): "checkpoints kept (the newest)",
+    ("", "max_escaped_fraction"): "stop when more than this fraction of the fluid has left the domain",
 }
 KEY_DOCS = {
     "dim": "2 (x-z plane) or 3",
@@ -285,8 +289,8 @@ def dumps_case(case, commented=True, file_name="case.toml"):
 
     data = case.resolved()
     # order: scalars first, then tables, as a person would write it
-    order = ["name", "description", "dim", "dp", "end_time", "lattice_origin", "parameters", "domain", "fluid",
-             "options", "output", "motions", "solids", "fluids"]
+    order = ["name", "description", "dim", "dp", "end_time", "max_escaped_fraction", "lattice_origin", "parameters",
+             "domain", "fluid", "options", "output", "checkpoint", "motions", "solids", "fluids"]
     data = {k: data[k] for k in order if k in data} | {k: v for k, v in data.items() if k not in order}
     if not data.get("parameters"):
         data.pop("parameters", None)

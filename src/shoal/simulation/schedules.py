@@ -41,6 +41,22 @@ class TimeInterval:
             return True
         return False
 
+    def get_state(self):
+        """What a checkpoint must hold to continue the schedule exactly: the
+        number of output times passed (`count`)."""
+        return {"count": self.count}
+
+    def set_state(self, state):
+        """Continue from a checkpoint's `get_state()`."""
+        self.count = int(state["count"])
+
+    def skip_to(self, time):
+        """Fire next at the first multiple strictly after `time` [s] (a
+        schedule added on a restart)."""
+        self.count = 0
+        while self._next() <= time + 1e-9 * self.interval:
+            self.count += 1
+
 
 class IterationInterval:
     """Fire every `n` steps (and at step 0)."""
@@ -55,6 +71,13 @@ class IterationInterval:
 
     def due(self, sim):
         return sim.step_count % self.n == 0
+
+    def get_state(self):
+        """No state: the schedule follows the step count."""
+        return {}
+
+    def set_state(self, state):
+        pass
 
 
 class WallTimeInterval:
@@ -75,3 +98,33 @@ class WallTimeInterval:
             self._last = now
             return True
         return False
+
+    def get_state(self):
+        """No state worth keeping: wall-clock time restarts with the process."""
+        return {}
+
+    def set_state(self, state):
+        """Restart the wall-clock interval from now."""
+        self._last = _time.monotonic()
+
+
+class AnyOf:
+    """Fire when any of `schedules` is due (each is asked every step, so
+    their counters advance); never shortens a step."""
+
+    def __init__(self, *schedules):
+        self.schedules = list(schedules)
+
+    def next_time(self):
+        return math.inf
+
+    def due(self, sim):
+        fired = [s.due(sim) for s in self.schedules]
+        return any(fired)
+
+    def get_state(self):
+        return {"schedules": [s.get_state() for s in self.schedules]}
+
+    def set_state(self, state):
+        for s, st in zip(self.schedules, state.get("schedules", [])):
+            s.set_state(st)

@@ -67,7 +67,8 @@ class Simulation:
         self.dt_floor_ratio = dt_floor_ratio
         self.check_every = check_every
         self.wall_seconds = 0.0
-        self.stop_requested = False
+        self.stop_requested = False  # set (e.g. by a signal handler) to end the run after the current step
+        self.started = False  # the initial sort, check and t = 0 callbacks are done (or restored from a checkpoint)
         self.options = model.options
 
     def add_callback(self, func, schedule, name=None):
@@ -136,10 +137,11 @@ class Simulation:
         """Run to `end_time` (or `max_steps` steps). Returns self."""
         t0 = _time.perf_counter()
         try:
-            if self.step_count == 0:
+            if not self.started:
                 self.model.sort()
                 self.model.check(0, 0.0)
                 self._run_callbacks()
+                self.started = True
             steps = 0
             while self.time < self.end_time * (1 - 1e-12) and not self.stop_requested:
                 if max_steps is not None and steps >= max_steps:

@@ -1,0 +1,567 @@
+"""Checkpoints: the whole state of a run in one HDF5 file, for an exact restart.
+
+A checkpoint ``<run>/ckpt_NNNNNN.h5`` (NNNNNN: the step count) holds what a
+run needs to continue **bitwise** as if it had never stopped:
+
+``particles/<name>``
+    every per-particle array of the `Model` (all ``n_total`` rows, in their
+    current order, including rows of particles that have left the domain):
+    positions, velocities, densities, kinds, ids, the moving particles'
+    initial positions and motion indices, the rate arrays;
+``integrator/extra_<k>``
+    the integrator's state arrays (`Model.extra_arrays`: Verlet's previous
+    velocity and density, the symplectic scheme's saved step);
+``callbacks/<k>/<key>``
+    the array state of callback k (probe rows, test-point samples, tracked
+    ids);
+``meta``
+    JSON (UTF-8 bytes): time, step count, dt, dt0, the model's active and
+    escaped counts, the integrator's scalars (Verlet's step counter), the
+    schedule counters of every callback, each callback's scalar state (CSV
+    byte lengths, snapshot count), the format version, shoal's version;
+``case_toml``
+    the resolved case file the run was started with (UTF-8 bytes).
+
+The root attribute ``sha256`` is the SHA-256 of every dataset (name, dtype,
+shape and bytes, in name order); `read_checkpoint` recomputes it, so a
+truncated or corrupted file is detected and skipped. Files are written
+atomically: ``ckpt_NNNNNN.h5.tmp``, flushed and fsync'ed, then renamed with
+`os.replace` (and the directory fsync'ed), so a crash mid-write leaves the
+previous checkpoints untouched. Only the newest `keep` are kept.
+
+Motions are pure functions of time (their tables are rebuilt from the case),
+so they carry no state of their own.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import re
+import time as _time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, ShoalError
+
+FORMAT = "shoal-checkpoint"
+VERSION = 1
+_NAME = re.compile(r"^ckpt_(\d+)\.h5$")
+
+
+class CheckpointError(ShoalError):
+    """A checkpoint file that cannot be used (unreadable, truncated, corrupt,
+    or written by another case or scheme)."""
+
+
+@dataclass
+class Checkpoint:
+    """A checkpoint read back from disk.
+
+    Attributes
+    ----------
+    path : Path
+        The file.
+    meta : dict
+        Scalar state (see the module docstring).
+    case_toml : str
+        The resolved case file text the run was started with.
+    particles : dict of str -> ndarray
+        Per-particle arrays of the Model, by attribute name.
+    extra : list of ndarray
+        The integrator's state arrays, in `Model.extra_arrays` order.
+    callbacks : dict of int -> dict of str -> ndarray
+        Array state of the callbacks, by callback index.
+    """
+
+    path: Path
+    meta: dict
+    case_toml: str
+    particles: dict = field(default_factory=dict)
+    extra: list = field(default_factory=list)
+    callbacks: dict = field(default_factory=dict)
+
+    @property
+    def time(self):
+        """Simulated time of the state [s]."""
+        return float(self.meta["time"])
+
+    @property
+    def step(self):
+        """Step count of the state."""
+        return int(self.meta["step_count"])
+
+
+def checkpoint_path(out_dir, step):
+    """``out_dir/ckpt_NNNNNN.h5`` for step `step`."""
+    return Path(out_dir) / f"ckpt_{int(step):06d}.h5"
+
+
+def list_checkpoints(out_dir):
+    """Checkpoint files in `out_dir`, newest (highest step) first."""
+    out_dir = Path(out_dir)
+    if not out_dir.is_dir():
+        return []
+    found = []
+    for p in out_dir.iterdir():
+        m = _NAME.match(p.name)
+        if m:
+            found.append((int(m.group(1)), p))
+    return [p for _, p in sorted(found, reverse=True)]
+
+
+# ------------------------------------------------------------------ capture
+def _is_array(a):
+    return hasattr(a, "shape") and hasattr(a, "dtype") and len(getattr(a, "shape", ())) >= 1
+
+
+def particle_arrays(model):
+    """The Model's per-particle arrays by attribute name: every array
+    attribute with ``n_total`` rows (so an array added to the Model later is
+    saved too); the integrator's arrays are `model.extra_arrays`."""
+    out = {}
+    for name, value in vars(model).items():
+        if name in ("scratch", "extra_arrays") or not _is_array(value):
+            continue
+        if value.shape[0] == model.n_total:
+            out[name] = value
+    return out
+
+
+def _scalars(obj, skip=()):
+    """JSON-able scalar attributes of `obj` (ints, floats, bools, strings)."""
+    out = {}
+    for k, v in vars(obj).items():
+        if k in skip or k.startswith("__"):
+            continue
+        if isinstance(v, (bool, np.bool_)):
+            out[k] = bool(v)
+        elif isinstance(v, (int, np.integer)):
+            out[k] = int(v)
+        elif isinstance(v, (float, np.floating)):
+            out[k] = _f(v)
+        elif isinstance(v, str):
+            out[k] = v
+    return out
+
+
+def _f(v):
+    """A float for JSON: repr round-trips exactly; non-finite as strings."""
+    if v is None:
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else repr(v)
+
+
+def _unf(v):
+    return None if v is None else float(v)
+
+
+def callback_state(func):
+    """(scalars, arrays) of a callback's recorder state, or None.
+
+    A callback function may define ``checkpoint_state()`` returning a dict
+    (ndarray values become datasets, the rest JSON). Probe recorders are
+    handled by their attributes: a CSV ``file`` (its byte length, so a
+    restart can cut the file back exactly), the in-memory ``rows``, a
+    test-point grid's ``times`` and ``samples``, a tracker's ``ids``.
+    """
+    if hasattr(func, "checkpoint_state"):
+        state = func.checkpoint_state()
+    else:
+        state = {}
+        f = getattr(func, "file", None)
+        path = getattr(func, "path", None)
+        if f is not None and path is not None and not getattr(f, "closed", True):
+            f.flush()
+            state["file_bytes"] = int(os.fstat(f.fileno()).st_size)
+            state["file_name"] = Path(path).name
+        rows = getattr(func, "rows", None)
+        if isinstance(rows, list):
+            state["n_rows"] = len(rows)
+            if rows:
+                state["rows"] = np.asarray(rows, dtype=np.float64)
+        times = getattr(func, "times", None)
+        samples = getattr(func, "samples", None)
+        if isinstance(times, list) and isinstance(samples, list):
+            state["times"] = np.asarray(times, dtype=np.float64)
+            for key in (samples[0] if samples else {}):
+                state[f"samples/{key}"] = np.stack([np.asarray(s[key]) for s in samples])
+            state["sample_keys"] = list(samples[0]) if samples else []
+        ids = getattr(func, "ids", None)
+        if isinstance(ids, np.ndarray):
+            state["ids"] = ids
+    if not state:
+        return None
+    scalars = {k: v for k, v in state.items() if not isinstance(v, np.ndarray)}
+    arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
+    return scalars, arrays
+
+
+def _digest(datasets):
+    h = hashlib.sha256()
+    for name in sorted(datasets):
+        a = np.ascontiguousarray(datasets[name])
+        h.update(name.encode())
+        h.update(a.dtype.str.encode())
+        h.update(repr(tuple(a.shape)).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _text(s):
+    return np.frombuffer(s.encode("utf-8"), dtype=np.uint8)
+
+
+def capture(sim, case_toml):
+    """The datasets of a checkpoint of `sim` (name -> ndarray)."""
+    from .. import __version__
+
+    m = sim.model
+    ds = {}
+    for name, a in particle_arrays(m).items():
+        ds[f"particles/{name}"] = np.array(m.backend.to_host(a, 0, a.shape[0]))
+    for k, a in enumerate(m.extra_arrays):
+        ds[f"integrator/extra_{k}"] = np.array(m.backend.to_host(a, 0, a.shape[0]))
+    cbs = []
+    for k, cb in enumerate(sim.callbacks):
+        entry = {"name": cb.name, "schedule": cb.schedule.get_state() if hasattr(cb.schedule, "get_state") else {}}
+        st = callback_state(cb.func)
+        if st is not None:
+            scalars, arrays = st
+            entry["state"] = scalars
+            entry["arrays"] = sorted(arrays)
+            for key, a in arrays.items():
+                ds[f"callbacks/{k}/{key}"] = np.ascontiguousarray(a)
+        cbs.append(entry)
+    meta = {
+        "format": FORMAT, "version": VERSION, "shoal_version": __version__,
+        "time": _f(sim.time), "step_count": int(sim.step_count), "dt": _f(sim.dt), "dt0": _f(sim.dt0),
+        "end_time": _f(sim.end_time), "wall_seconds": _f(sim.wall_seconds),
+        "model": {"n": int(m.n), "n_total": int(m.n_total), "n_escaped": int(m.n_escaped), "time": _f(m.time),
+                  "dim": int(m.dim), "dtype": np.dtype(m.dtype).str, "backend": m.backend.name},
+        "integrator": {"type": type(sim.integrator).__name__, "scalars": _scalars(sim.integrator, skip=("model",)),
+                       "n_extra": len(m.extra_arrays)},
+        "callbacks": cbs,
+        "written": _time.strftime("%Y-%m-%dT%H:%M:%S"),
+    }
+    ds["meta"] = _text(json.dumps(meta))
+    ds["case_toml"] = _text(case_toml)
+    return ds
+
+
+# ------------------------------------------------------------------ writing
+def _fsync_dir(path):
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def write_checkpoint(path, datasets):
+    """Write `datasets` to `path` atomically (``.tmp``, fsync, `os.replace`)
+    with their SHA-256 as the root attribute ``sha256``. On an error the
+    temporary file is removed and the error re-raised; `path` and every other
+    file are untouched."""
+    import h5py
+
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with h5py.File(tmp, "w") as f:
+            for name, a in datasets.items():
+                f.create_dataset(name, data=a)
+            f.attrs["format"] = FORMAT
+            f.attrs["version"] = VERSION
+            f.attrs["sha256"] = _digest(datasets)
+            f.flush()
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise
+    _fsync_dir(path.parent)
+    return path
+
+
+def read_checkpoint(path):
+    """Read and verify a checkpoint; raises `CheckpointError` naming why a
+    file cannot be used (unreadable or truncated HDF5, wrong format,
+    checksum mismatch)."""
+    import h5py
+
+    path = Path(path)
+    try:
+        with h5py.File(path, "r") as f:
+            if f.attrs.get("format") != FORMAT:
+                raise CheckpointError(f"{path.name} is not a shoal checkpoint")
+            stored = f.attrs.get("sha256")
+            ds = {}
+
+            def visit(name, obj):
+                if isinstance(obj, h5py.Dataset):
+                    ds[name] = obj[()]
+
+            f.visititems(visit)
+    except CheckpointError:
+        raise
+    except Exception as err:  # h5py raises OSError, KeyError, ValueError... on damaged files
+        raise CheckpointError(f"{path.name} cannot be read ({type(err).__name__}: "
+                              f"{str(err).splitlines()[0] if str(err) else 'damaged'})") from None
+    if isinstance(stored, bytes):
+        stored = stored.decode()
+    if stored != _digest(ds):
+        raise CheckpointError(f"{path.name} fails its checksum (truncated or corrupted)")
+    try:
+        meta = json.loads(bytes(ds.pop("meta")).decode("utf-8"))
+        case_toml = bytes(ds.pop("case_toml")).decode("utf-8")
+    except (KeyError, ValueError) as err:
+        raise CheckpointError(f"{path.name} has no readable meta data ({err})") from None
+    if meta.get("version") != VERSION:
+        raise CheckpointError(f"{path.name} has format version {meta.get('version')}; this shoal reads {VERSION}")
+    ck = Checkpoint(path, meta, case_toml)
+    for name, a in ds.items():
+        parts = name.split("/")
+        if parts[0] == "particles":
+            ck.particles[parts[1]] = a
+        elif parts[0] == "integrator":
+            ck.extra.append((int(parts[1].split("_")[1]), a))
+        elif parts[0] == "callbacks":
+            ck.callbacks.setdefault(int(parts[1]), {})["/".join(parts[2:])] = a
+    ck.extra = [a for _, a in sorted(ck.extra, key=lambda t: t[0])]
+    return ck
+
+
+def latest_checkpoint(out_dir, warn=None):
+    """The newest valid checkpoint in `out_dir`.
+
+    A file that fails to read or verify is skipped with a one-line warning
+    (``warn(message)``) and the previous one is tried. Raises `InputError`
+    if none is usable.
+    """
+    files = list_checkpoints(out_dir)
+    if not files:
+        raise InputError(f"{out_dir} holds no checkpoint (ckpt_NNNNNN.h5) to resume from")
+    for p in files:
+        try:
+            return read_checkpoint(p)
+        except CheckpointError as err:
+            if warn is not None:
+                warn(f"checkpoint {p} skipped: {err}; falling back to the previous one")
+    raise InputError(f"none of the {len(files)} checkpoints in {out_dir} is readable "
+                     f"({', '.join(p.name for p in files)}); the run cannot be resumed")
+
+
+# ------------------------------------------------------------------ restore
+def restore(sim, ck):
+    """Put the state of checkpoint `ck` into `sim` (built from the same case,
+    with the same callbacks in the same order); raises `CheckpointError` if
+    the checkpoint does not match the Simulation."""
+    m = sim.model
+    meta = ck.meta
+    mm = meta["model"]
+    if mm["n_total"] != m.n_total or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
+        raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
+                              f"this case has {m.n_total} ({m.dim}D, {np.dtype(m.dtype).str})")
+    arrays = particle_arrays(m)
+    missing = sorted(set(arrays) - set(ck.particles))
+    if missing:
+        raise CheckpointError(f"{ck.path.name} lacks the particle arrays {', '.join(missing)} (written by another "
+                              "version or scheme)")
+    for name, dst in arrays.items():
+        src = ck.particles[name]
+        if tuple(src.shape) != tuple(dst.shape) or src.dtype != dst.dtype:
+            raise CheckpointError(f"{ck.path.name}: particle array {name} is {src.dtype}{tuple(src.shape)}, "
+                                  f"the model's {dst.dtype}{tuple(dst.shape)}")
+        m.backend.copy_into(dst, src, src.shape[0])
+    it = meta["integrator"]
+    if it["type"] != type(sim.integrator).__name__ or len(ck.extra) != len(m.extra_arrays):
+        raise CheckpointError(f"{ck.path.name} was written with the {it['type']} integrator; this run uses "
+                              f"{type(sim.integrator).__name__}")
+    for dst, src in zip(m.extra_arrays, ck.extra):
+        if tuple(src.shape) != tuple(dst.shape) or src.dtype != dst.dtype:
+            raise CheckpointError(f"{ck.path.name}: an integrator array does not match the model")
+        m.backend.copy_into(dst, src, src.shape[0])
+    for k, v in it["scalars"].items():
+        setattr(sim.integrator, k, v)
+    m.n = int(mm["n"])
+    m.n_escaped = int(mm["n_escaped"])
+    m.time = _unf(mm["time"])
+    sim.time = _unf(meta["time"])
+    sim.step_count = int(meta["step_count"])
+    sim.dt = _unf(meta["dt"])
+    sim.dt0 = _unf(meta["dt0"])
+    sim.wall_seconds = _unf(meta.get("wall_seconds")) or 0.0
+    sim.started = True
+    saved = meta["callbacks"]
+    for k, cb in enumerate(sim.callbacks):
+        if getattr(cb, "fresh_on_resume", False):
+            continue
+        if k >= len(saved) or saved[k]["name"] != cb.name:
+            have = ", ".join(c["name"] for c in saved)
+            raise CheckpointError(f"{ck.path.name}: callback {k} is {cb.name!r} here but the checkpoint's "
+                                  f"callbacks are: {have}")
+        if hasattr(cb.schedule, "set_state"):
+            cb.schedule.set_state(saved[k]["schedule"])
+
+
+def callback_saved_state(ck, index, name):
+    """(scalars, arrays) saved for callback `index` (named `name`), or ({}, {})."""
+    saved = ck.meta["callbacks"]
+    if index >= len(saved) or saved[index]["name"] != name:
+        return {}, {}
+    return saved[index].get("state", {}), ck.callbacks.get(index, {})
+
+
+def _head(path, n_bytes=None):
+    """The first `n_bytes` bytes of file `path` (all of it if None)."""
+    with open(path, "rb") as f:
+        return f.read() if n_bytes is None else f.read(n_bytes)
+
+
+def set_aside(path):
+    """Rename `path` to ``path.resume`` before a recorder re-creates it (a
+    crash mid-restart keeps the data there; a later restart reads it back).
+    Returns the backup path, or None if neither exists."""
+    path = Path(path)
+    bak = path.with_name(path.name + ".resume")
+    if bak.exists():
+        return bak  # left by an interrupted restart: it holds the data
+    if path.exists():
+        os.replace(path, bak)
+        return bak
+    return None
+
+
+def restore_recorder(rec, scalars, arrays, backup=None):
+    """Restore a probe recorder (built afresh for the resumed run) from its
+    checkpoint state: its CSV gets back exactly the bytes it held at the
+    checkpoint (rows written after it, by the interrupted run, are dropped),
+    and its in-memory rows, samples or ids are restored.
+
+    Returns
+    -------
+    str or None
+        A warning if the file held less than at the checkpoint (rows lost
+        by the system, e.g. a power cut before they reached the disk).
+    """
+    if hasattr(rec, "restore_checkpoint_state"):
+        rec.restore_checkpoint_state(scalars, arrays, backup)
+        return None
+    warning = None
+    f = getattr(rec, "file", None)
+    if f is not None and backup is not None and Path(backup).exists():
+        # the bytes the file held at the checkpoint (rows written after it are dropped)
+        n = int(scalars["file_bytes"]) if "file_bytes" in scalars else None
+        data = _head(backup, n)
+        if n is not None and len(data) < n:
+            data = data[: data.rfind(b"\n") + 1]
+            warning = (f"{Path(rec.path).name} held {len(data)} bytes, fewer than the {n} it held at the "
+                       "checkpoint: rows recorded before the checkpoint were lost by the system")
+        f.flush()
+        f.seek(0)
+        f.truncate()
+        f.write(data.decode("utf-8"))
+        f.flush()
+        os.fsync(f.fileno())
+    if isinstance(getattr(rec, "rows", None), list):
+        rows = arrays.get("rows")
+        rec.rows[:] = [] if rows is None else [list(map(float, r)) for r in rows]
+    if "times" in arrays and isinstance(getattr(rec, "samples", None), list):
+        keys = scalars.get("sample_keys", [])
+        times = arrays["times"]
+        rec.times[:] = [float(t) for t in times]
+        rec.samples[:] = [{k: arrays[f"samples/{k}"][i] for k in keys} for i in range(len(times))]
+    if "ids" in arrays and isinstance(getattr(rec, "ids", None), np.ndarray):
+        rec.ids = arrays["ids"]
+    return warning
+
+
+# ------------------------------------------------------------------ callback
+class CheckpointWriter:
+    """A Simulation callback writing ``ckpt_NNNNNN.h5`` and keeping the newest `keep`.
+
+    Add it last, so every other callback's state at the step is included.
+
+    Parameters
+    ----------
+    out_dir : path
+        Run directory.
+    case_toml : str
+        The resolved case file text (stored in each checkpoint).
+    keep : int
+        Checkpoints kept.
+    log : logging.Logger, optional
+        Where each write is logged.
+    """
+
+    def __init__(self, out_dir, case_toml, keep=2, log=None):
+        self.out_dir = Path(out_dir)
+        self.case_toml = case_toml
+        self.keep = max(1, int(keep))
+        self.log = log
+        self.last_step = None
+        self.last_path = None
+        self.written = 0
+
+    def __call__(self, sim):
+        self.write(sim)
+
+    def write(self, sim):
+        """Write a checkpoint of `sim` now (once per step); returns its path."""
+        if self.last_step == sim.step_count and self.last_path is not None and self.last_path.exists():
+            return self.last_path
+        t0 = _time.perf_counter()
+        path = checkpoint_path(self.out_dir, sim.step_count)
+        write_checkpoint(path, capture(sim, self.case_toml))
+        self.last_step, self.last_path = sim.step_count, path
+        self.written += 1
+        for old in list_checkpoints(self.out_dir)[self.keep:]:
+            try:
+                old.unlink()
+            except OSError:
+                pass
+        if self.log is not None:
+            self.log.info("checkpoint %s: step %d, t = %.9g s, %.1f MiB in %.2f s", path.name, sim.step_count,
+                          sim.time, path.stat().st_size / 2**20, _time.perf_counter() - t0)
+        return path
+
+
+def clear_checkpoints(out_dir):
+    """Remove every checkpoint (and temporary and set-aside file) in `out_dir`:
+    a new run there must never resume from an older run's state."""
+    out_dir = Path(out_dir)
+    if not out_dir.is_dir():
+        return
+    for p in out_dir.iterdir():
+        if _NAME.match(p.name) or re.match(r"^ckpt_\d+\.h5\.(tmp|bad)$", p.name) or p.name.endswith(".csv.resume"):
+            p.unlink()
+
+
+def set_aside_newer(out_dir, ck):
+    """Rename checkpoints newer than `ck` (damaged ones, skipped on resume)
+    to ``*.h5.bad`` and remove stale ``*.h5.tmp`` files, so the resumed run
+    never mistakes them for its own."""
+    for p in Path(out_dir).iterdir():
+        m = _NAME.match(p.name)
+        if m and int(m.group(1)) > ck.step:
+            os.replace(p, p.with_name(p.name + ".bad"))
+        elif re.match(r"^ckpt_\d+\.h5\.tmp$", p.name):
+            p.unlink()
