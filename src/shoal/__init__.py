@@ -9,7 +9,8 @@ The public API:
 * `SPHOptions` (kernel, viscosity, density diffusion, filters, integrator);
 * `Model` (particles + scheme + backend) and `Simulation` (time loop with
   scheduled callbacks: `TimeInterval`, `IterationInterval`, `WallTimeInterval`);
-* `run_case`, which runs a case end to end and writes VTU snapshots;
+* `run_case`, which runs a case end to end and writes VTU snapshots and
+  checkpoints, and `resume_run`, which continues one from its last checkpoint;
 * errors `InputError` and `InstabilityError`.
 """
 
@@ -29,10 +30,10 @@ from .casefile import load_case, write_case  # noqa: E402
 from .errors import InputError, InstabilityError, ShoalError  # noqa: E402
 from .model import Model  # noqa: E402
 from .options import SPHOptions  # noqa: E402
-from .runner import RunResult, run_case  # noqa: E402
+from .runner import RunResult, resume_run, run_case  # noqa: E402
 from .simulation import IterationInterval, Simulation, TimeInterval, WallTimeInterval  # noqa: E402
 
 __all__ = ["Case", "Domain", "Fluid", "FluidRegion", "Output", "Solid", "SymmetryPlane", "load_case", "write_case",
            "geometry", "motions", "SPHOptions", "Model", "Simulation", "TimeInterval", "IterationInterval",
-           "WallTimeInterval", "run_case", "RunResult", "cases", "InputError", "InstabilityError",
+           "WallTimeInterval", "run_case", "resume_run", "RunResult", "cases", "InputError", "InstabilityError",
            "ShoalError", "__version__"]

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .errors import InputError, InstabilityError
+from .errors import InputError, InstabilityError, OutputError, RunInterrupted
 from .model import Model
 from .simulation import Simulation, TimeInterval
 from .simulation.writers import SnapshotWriter
@@ -39,6 +39,8 @@ class RunResult:
     snapshots: int
     model: Model
     simulation: Simulation
+    checkpoint: Path | None = None  # the last checkpoint written (the final state)
+    resumed_from: Path | None = None  # the checkpoint a resumed run started from
 
     @property
     def particle_steps_per_second(self):
@@ -85,13 +87,13 @@ def run_summary(case, model):
     }
 
 
-def _logger(out_dir):
+def _logger(out_dir, append=False):
     log = logging.getLogger(f"shoal.run.{out_dir}")
     log.setLevel(logging.INFO)
     log.propagate = False
     for h in list(log.handlers):
         log.removeHandler(h)
-    fh = logging.FileHandler(out_dir / "run.log", mode="w")
+    fh = logging.FileHandler(out_dir / "run.log", mode="a" if append else "w")
     fh.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
     log.addHandler(fh)
     return log
@@ -127,55 +129,175 @@ class _Progress:
             self.bar.stop()
 
 
-def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False):
+def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False,
+             resume=False, handle_signals=True):
     """Run `case`, writing everything under `out_dir`.
 
     Writes ``<name>.pvd`` and ``<name>_NNNN.vtu`` snapshots every
     ``case.output.interval`` s, ``run.log``, ``case.toml`` (the resolved
     case: every default filled in; ``shoal run case.toml`` runs it again),
-    ``resolved.json`` (particle counts, derived constants, versions) and
+    ``resolved.json`` (particle counts, derived constants, versions),
+    ``escaped.csv`` (particles that left the domain), checkpoints
+    ``ckpt_NNNNNN.h5`` (see `shoal.simulation.checkpoint`) and
     ``<name>_final.png``. A run that goes
     unstable writes ``<name>_unstable.vtu`` of the bad state, keeps what it
-    wrote, and raises `InstabilityError`. An `out_dir` that already holds a
-    run (a ``resolved.json``) is refused unless `overwrite` is true, so no
-    earlier result is lost by accident.
+    wrote (checkpoints included), and raises `InstabilityError`. An `out_dir`
+    that already holds a run (a ``resolved.json``) is refused unless
+    `overwrite` is true, so no earlier result is lost by accident.
+
+    Parameters
+    ----------
+    case : Case or None
+        The case (None with `resume`: the run's own ``case.toml``).
+    out_dir : path
+        Run directory.
+    backend : {"cpu", "cuda"}
+    progress : bool
+        Show a progress bar.
+    plot : bool
+        Write the PNG of the final state.
+    max_steps : int, optional
+        Stop after this many steps (tests).
+    overwrite : bool
+        Replace a run already in `out_dir` (its checkpoints are removed).
+    resume : bool
+        Continue the run in `out_dir` from its newest valid checkpoint (a
+        damaged one is skipped with a warning): probe CSVs are cut back to
+        the checkpoint and appended to, the snapshot series and ``run.log``
+        continue. `case` must be that run's case; only ``end_time``,
+        ``[checkpoint]`` and ``max_escaped_fraction`` may differ. On the CPU
+        the result is bitwise that of an uninterrupted run.
+    handle_signals : bool
+        On the main thread, the first SIGINT/SIGTERM ends the run after the
+        current step with a final checkpoint (`RunInterrupted`); a second
+        aborts at once.
 
     Returns
     -------
     RunResult
+
+    Raises
+    ------
+    InputError
+        Bad input, a run directory already used, a run too large for the
+        memory available, nothing to resume.
+    InstabilityError
+        The run blew up, or too much fluid left the domain.
+    RunInterrupted
+        Stopped by a signal (after writing a checkpoint).
+    OutputError
+        The disk filled up (or another write failed).
     """
+    from .simulation.checkpoint import CheckpointError, clear_checkpoints, set_aside_newer
+    from .simulation.resources import DISK_FULL, check_memory, disk_full_message
+
     out_dir = Path(out_dir)
-    if not overwrite and (out_dir / "resolved.json").exists():
+    warnings = []
+    ck = None
+    if resume:
+        case, ck = _resume_point(case, out_dir, warnings.append)
+    elif not overwrite and (out_dir / "resolved.json").exists():
         raise InputError(f"{out_dir} already holds a run (resolved.json); choose another --out directory "
-                         "or pass --overwrite")
+                         "or pass --overwrite (or --resume to continue it)")
+    check_memory(case)
     model = build_model(case, backend)  # bad input fails here, before anything is written
-    out_dir.mkdir(parents=True, exist_ok=True)
-    log = _logger(out_dir)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        if ck is None:
+            clear_checkpoints(out_dir)
+        else:
+            set_aside_newer(out_dir, ck)
+        log = _logger(out_dir, append=ck is not None)
+    except OSError as err:
+        if err.errno in DISK_FULL:
+            raise OutputError(disk_full_message(err, out_dir)) from None
+        raise InputError(f"cannot write to the output directory {out_dir}: {err.strerror or err}") from None
+    for w in warnings:
+        log.warning("%s", w)
+    state = {"checkpoint": ck.path if ck is not None else None}
+    try:
+        return _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, handle_signals, state)
+    except CheckpointError as err:
+        _close_log(log)
+        raise InputError(f"cannot resume {out_dir}: {err}") from None
+    except OSError as err:
+        if err.errno not in DISK_FULL or isinstance(err, OutputError):
+            raise
+        ckw = state.get("writer")
+        msg = disk_full_message(err, out_dir, ckw.last_path if ckw is not None else state.get("checkpoint"))
+        try:
+            log.error("%s", msg)
+        except OSError:
+            pass
+        _close_log(log)
+        raise OutputError(msg) from None
+
+
+def _close_log(log):
+    for h in list(log.handlers):
+        try:
+            h.close()
+        except OSError:
+            pass
+        log.removeHandler(h)
+
+
+def _checkpoint_schedule(cfg):
+    from .simulation.schedules import AnyOf, WallTimeInterval
+
+    parts = []
+    if cfg.interval > 0:
+        parts.append(TimeInterval(cfg.interval, start=cfg.interval, exact=False))  # never shortens a step
+    if cfg.wall_interval > 0:
+        parts.append(WallTimeInterval(cfg.wall_interval))
+    return AnyOf(*parts)
+
+
+def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, handle_signals, state):
+    from contextlib import nullcontext
+
+    from .casefile import dumps_case, write_case
+    from .probes import make_recorder
+    from .simulation import IterationInterval
+    from .simulation.checkpoint import (CheckpointWriter, callback_saved_state, restore, restore_recorder,
+                                        set_aside)
+    from .simulation.escaped import EscapedRecorder
+    from .simulation.signals import StopOnSignals
+
     sim = Simulation(model, case.end_time)
     sim.damping = list(case.damping)
-    from .casefile import write_case
-
     write_case(case, out_dir / "case.toml")
-    resolved = run_summary(case, model)
-    resolved.update(
-        shoal_version=__version__, backend=backend, python=platform.python_version(),
-        threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
-        speed_of_sound=model.c0,
-        eos_B=model.B, particle_mass=model.mass, solver_bytes=model.nbytes(),
-        bytes_per_particle=model.nbytes() / model.n_total,
-    )
-    (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
-    log.info("case %s: %s", case.name, case.description)
+    case_toml = dumps_case(case, file_name="case.toml")
+    if ck is None:
+        resolved = run_summary(case, model)
+        resolved.update(
+            shoal_version=__version__, backend=backend, python=platform.python_version(),
+            threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
+            speed_of_sound=model.c0,
+            eos_B=model.B, particle_mass=model.mass, solver_bytes=model.nbytes(),
+            bytes_per_particle=model.nbytes() / model.n_total,
+        )
+        (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
+        log.info("case %s: %s", case.name, case.description)
     log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d threads, %s",
              model.n_total, case.n_fluid, case.dp, model.h, model.c0, backend, model.backend.threads(),
              case.options.precision)
-    from .probes import make_recorder
-
+    # on a restart, the CSVs are renamed aside before the recorders re-create them, then get back exactly
+    # the bytes they held at the checkpoint (a crash in between leaves the data in *.csv.resume)
+    backups = {}
+    if ck is not None:
+        for p in sorted(out_dir.glob("*.csv")) + sorted(out_dir.glob("*.csv.resume")):
+            name = p.name[: -len(".resume")] if p.name.endswith(".resume") else p.name
+            if name not in backups:
+                bak = set_aside(out_dir / name)
+                if bak is not None:
+                    backups[name] = bak
+    escaped = EscapedRecorder(out_dir, model, case.max_escaped_fraction)
     model.sort()  # particles in cell order for the first samples
     recorders = [make_recorder(p, out_dir, case.dp, model) for p in case.probes]
     for rec in recorders:
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
-    writer = SnapshotWriter(out_dir, case.name)
+    writer = SnapshotWriter(out_dir, case.name, resume=ck is not None)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = _Progress(case.end_time, progress)
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False),
@@ -186,20 +308,79 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
                  s.model.n, s.model.n_escaped)
 
     sim.add_callback(log_step, TimeInterval(case.output.interval, exact=False), name="log")
+    sim.add_callback(escaped, IterationInterval(1), name="escaped")
+    ckw = CheckpointWriter(out_dir, case_toml, case.checkpoint.keep, log)
+    ck_cb = sim.add_callback(ckw, _checkpoint_schedule(case.checkpoint), name="checkpoint")  # last: sees the rest
+    ck_cb.fresh_on_resume = True
+    state["writer"] = ckw
+    closers = [escaped, *recorders]
+    if ck is not None:
+        restore(sim, ck)
+        restored = set()
+        for k, cb in enumerate(sim.callbacks):
+            if getattr(cb, "fresh_on_resume", False):
+                continue
+            scalars, arrays = callback_saved_state(ck, k, cb.name)
+            if scalars or arrays:
+                bak = backups.get(scalars.get("file_name"))
+                w = restore_recorder(cb.func, scalars, arrays, bak)
+                if bak is not None:
+                    restored.add(scalars.get("file_name"))
+                if w:
+                    _warn(w)
+                    log.warning("%s", w)
+        for s in ck_cb.schedule.schedules:
+            if isinstance(s, TimeInterval):
+                s.skip_to(sim.time)
+        for name, bak in backups.items():
+            if name in restored:
+                bak.unlink()  # its data is back in the re-created file
+            elif not (out_dir / name).exists():
+                bak.replace(out_dir / name)  # not a recorder's file: put it back as it was
+            else:
+                w = f"{name} was re-created but the checkpoint has no state for it; its old data is in {bak.name}"
+                _warn(w)
+                log.warning("%s", w)
+        ckw.last_step, ckw.last_path = ck.step, ck.path
+        log.info("resumed from %s: step %d, t = %.9g s, dt %.6g s; run to t = %g s", ck.path.name, ck.step,
+                 ck.time, sim.dt or 0.0, case.end_time)
+    stopper = StopOnSignals(sim) if handle_signals else nullcontext()
     try:
-        sim.run(max_steps=max_steps)
+        with stopper:
+            sim.run(max_steps=max_steps)
+            if ckw.last_path is not None:
+                state["checkpoint"] = ckw.last_path
+            signum = getattr(stopper, "signum", None)
+            if signum is not None:
+                import signal as _signal
+
+                path = ckw.write(sim)
+                for rec in closers:
+                    rec.close()
+                name = _signal.Signals(signum).name
+                msg = (f"stopped by {name} at step {sim.step_count}, t = {sim.time:.6g} s; checkpoint {path.name} "
+                       f"written; continue with: shoal run --resume {out_dir}")
+                log.warning("%s", msg)
+                _close_log(log)
+                raise RunInterrupted(msg, signum, path)
     except InstabilityError as err:
         bar.stop()
-        for rec in recorders:
+        for rec in closers:
             rec.close()
         path = writer.write(model, sim.time, suffix="unstable")
-        log.error("%s; bad state written to %s", err, path.name)
+        kept = f"; last checkpoint kept: {ckw.last_path.name}" if ckw.last_path is not None else ""
+        log.error("%s; bad state written to %s%s", err, path.name, kept)
+        _close_log(log)
         raise InstabilityError(f"{err} (state written to {path})") from None
+    except BaseException:
+        bar.stop()
+        raise
     bar.stop()
-    for rec in recorders:
-        rec.close()
     if writer.last_time is None or writer.last_time < sim.time - 1e-12:
         writer(sim)
+    state["checkpoint"] = ckw.write(sim)  # before closing the recorders: it records their files' lengths
+    for rec in closers:
+        rec.close()
     if plot:
         from .output import plot_particles
 
@@ -207,11 +388,95 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         plot_particles(out_dir / f"{case.name}_final.png", model.world_positions(), v, kind=model.host(model.kind),
                        title=f"{case.name}  t = {sim.time:.3f} s", value_label="|v| [m/s]", dim=case.dim)
     result = RunResult(out_dir, sim.step_count, sim.time, sim.wall_seconds, model.backend.compile_seconds,
-                       model.n_total, model.n_escaped, writer.count, model, sim)
+                       model.n_total, model.n_escaped, writer.count, model, sim, checkpoint=state["checkpoint"],
+                       resumed_from=ck.path if ck is not None else None)
     log.info("done: %d steps to t = %.6g s in %.2f s wall (%.2f s compile), %.3g particle-steps/s, "
              "%d particles escaped", result.steps, result.time, result.wall_seconds, result.compile_seconds,
              result.particle_steps_per_second, result.escaped)
-    for h in list(log.handlers):
-        h.close()
-        log.removeHandler(h)
+    _close_log(log)
     return result
+
+
+def _warn(message):
+    import sys
+
+    sys.stderr.write(f"shoal: warning: {message}\n")
+
+
+def _same_case(case, ck):
+    """InputError unless `case` is the case checkpoint `ck` was written with
+    (end_time, [checkpoint] and max_escaped_fraction may differ)."""
+    import tomllib
+
+    from .casefile import dumps_case
+
+    a = tomllib.loads(ck.case_toml)
+    b = tomllib.loads(dumps_case(case, commented=False))
+    free = ("end_time", "checkpoint", "max_escaped_fraction")
+    diff = sorted(k for k in set(a) | set(b) if k not in free and a.get(k) != b.get(k))
+    if diff:
+        raise InputError(f"the case differs from the one {ck.path.name} was written with (in: {', '.join(diff)}); "
+                         "a resumed run continues the same case: only end_time, [checkpoint] and "
+                         "max_escaped_fraction may change")
+
+
+def _resume_point(case, out_dir, collect):
+    """(case, checkpoint) to resume the run in `out_dir` from."""
+    from .casefile import load_case
+    from .simulation.checkpoint import latest_checkpoint
+
+    if not (out_dir / "resolved.json").exists() and not any(out_dir.glob("ckpt_*.h5")):
+        raise InputError(f"{out_dir} holds no run to resume (no resolved.json or checkpoint)")
+
+    def warn(msg):
+        _warn(msg)
+        collect(msg)
+
+    ck = latest_checkpoint(out_dir, warn=warn)
+    if case is None:
+        toml = out_dir / "case.toml"
+        if not toml.exists():
+            raise InputError(f"{toml} is missing: the run's case file is needed to resume it")
+        case = load_case(toml)
+    _same_case(case, ck)
+    if ck.time >= case.end_time * (1 - 1e-12):
+        raise InputError(f"the run in {out_dir} is complete (checkpoint {ck.path.name} at t = {ck.time:.6g} s, "
+                         f"end_time = {case.end_time:g} s); give a later --end-time to extend it")
+    return case, ck
+
+
+def resume_run(out_dir, end_time=None, checkpoint_interval=None, backend="cpu", progress=False, plot=True,
+               max_steps=None, handle_signals=True):
+    """Continue the run in `out_dir` from its newest valid checkpoint.
+
+    Parameters
+    ----------
+    out_dir : path
+        A run directory (its ``case.toml`` and ``ckpt_NNNNNN.h5`` files).
+    end_time : float, optional
+        A new end time [s] (to extend a finished run); default: the case's.
+    checkpoint_interval : float, optional
+        A new simulated-time checkpoint interval [s].
+    backend, progress, plot, max_steps, handle_signals
+        As for `run_case`.
+
+    Returns
+    -------
+    RunResult
+    """
+    from .casefile import load_case
+
+    out_dir = Path(out_dir)
+    toml = out_dir / "case.toml"
+    if not toml.exists():
+        raise InputError(f"{out_dir} holds no run to resume ({toml.name} is missing)")
+    case = load_case(toml)
+    update = {}
+    if end_time is not None:
+        update["end_time"] = float(end_time)
+    if checkpoint_interval is not None:
+        update["checkpoint"] = case.checkpoint.model_copy(update={"interval": float(checkpoint_interval)})
+    if update:
+        case = case.model_copy(update=update)
+    return run_case(case, out_dir, backend=backend, progress=progress, plot=plot, max_steps=max_steps, resume=True,
+                    handle_signals=handle_signals)
