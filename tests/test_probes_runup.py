@@ -41,6 +41,17 @@ def test_highest_fluid_selects_the_gauge_region():
     assert highest_fluid(pos, kinds, 2, banded) == (4.0, 0.08, 0.08)  # no band in 2D
 
 
+def test_runup_position_is_the_landward_end_of_the_top_row():
+    """Particles level within the tie tolerance: the run-up position is the most landward of them."""
+    pos = np.array([[0.1, 0, 1.0], [0.3, 0, 1.0], [0.5, 0, 0.999], [0.7, 0, 0.97], [0.9, 0, 0.5]])
+    kinds = np.zeros(5, int)
+    r = RunupGauge(name="r", x0=0.0, x1=1.0, interval=1.0)
+    assert highest_fluid(pos, kinds, 2, r) == (1.0, 0.3, 0.0)  # no tolerance: the exact ties only
+    assert highest_fluid(pos, kinds, 2, r, tie=0.01) == (1.0, 0.5, 0.0)
+    assert highest_fluid(pos, kinds, 2, r, tie=0.05) == (1.0, 0.7, 0.0)
+    assert highest_fluid(pos, kinds, 2, r.model_copy(update={"landward": "-x"}), tie=0.05) == (1.0, 0.1, 0.0)
+
+
 def test_gauge_specs_are_validated_and_round_trip(tmp_path):
     with pytest.raises(ValueError, match="x1"):
         RunupGauge(name="r", x0=1.0, x1=0.5, interval=0.1)
@@ -74,7 +85,7 @@ def test_maxz_in_a_still_water_tank_reads_the_still_water_level(tmp_path):
     head, data = _rows(tmp_path / "run" / "runup_tank.csv")
     assert head == ["time", "zmax", "x", "y"] and len(data) == 6
     assert np.all(np.abs(data[:, 1] - (H - dp / 2)) < dp / 10), data
-    assert np.all((data[:, 2] >= 0.0) & (data[:, 2] <= 0.8))
+    assert np.all(np.abs(data[:, 2] - (0.8 - dp / 2)) < dp / 10), data  # the top row's end at the +x wall
 
 
 def _beach_case(end_time, dp=0.02, H=0.2, x0=0.5, gradient=0.5, probes=()):
@@ -88,17 +99,20 @@ def _beach_case(end_time, dp=0.02, H=0.2, x0=0.5, gradient=0.5, probes=()):
 
 def test_runup_on_a_sloping_beach_in_still_water_is_the_still_water_level(tmp_path):
     """Real run (2D, a 1:2 beach from x = 0.5 m, still water H = 0.2 m, dp = 0.02 m, 0.1 s): the run-up
-    over the beach (x from its toe to beyond the shoreline at x = 0.9 m) is the top particle row, dp/2
-    under H: |zmax - (H - dp/2)| < dp/10, so within dp of the still-water level; the highest particle is
-    on the beach between its toe and the still shoreline. A range wholly above the shoreline is dry (NaN)."""
-    H, dp = 0.2, 0.02
+    over the beach (x from its toe to beyond the shoreline at x_s = 0.9 m) is the top particle row, dp/2
+    under H: |zmax - (H - dp/2)| < dp/10, so within dp of the still-water level. Its position is the
+    landward end of that row: the bed reaches the row's height dp/2 below H at x_s - (dp/2)/gradient
+    = 0.88 m, and the last lattice node before it is less than dp seaward (a dp/10 allowance for the
+    particles' motion). A range wholly above the shoreline is dry (NaN)."""
+    H, dp, gradient = 0.2, 0.02, 0.5
+    x_row = 0.9 - 0.5 * dp / gradient
     case = _beach_case(0.1, dp=dp, H=H, probes=[RunupGauge(name="beach", x0=0.5, x1=1.0, interval=0.02),
                                                 RunupGauge(name="dry", x0=0.95, x1=1.0, interval=0.05)])
     shoal.run_case(case, tmp_path / "run", plot=False)
     _, data = _rows(tmp_path / "run" / "runup_beach.csv")
     assert len(data) == 6
     assert np.all(np.abs(data[:, 1] - (H - dp / 2)) < dp / 10), data
-    assert np.all((data[:, 2] >= 0.5) & (data[:, 2] <= 0.9)), data
+    assert np.all((data[:, 2] > x_row - dp - dp / 10) & (data[:, 2] <= x_row + dp / 10)), data
     _, dry = _rows(tmp_path / "run" / "runup_dry.csv")
     assert np.all(np.isnan(dry[:, 1:]))
 

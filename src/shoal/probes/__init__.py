@@ -126,8 +126,13 @@ class MaxZGauge(Spec):
 class RunupGauge(Spec):
     """Shoreline run-up: the highest fluid particle centre [m] with x0 <= x_j
     <= x1 (and, in 3D, |y_j - y| <= band / 2; `band` omitted: every y),
-    every `interval` s, written to ``runup_<name>.csv`` (time, zmax and the
-    x, y of that particle; NaN when the range holds no fluid)."""
+    every `interval` s, written to ``runup_<name>.csv`` (time, zmax, and the
+    x, y where it is reached; NaN when the range holds no fluid).
+
+    The position is that of the most `landward` particle ("+x": largest x,
+    the built-in flumes' beaches; "-x": smallest) among those within dp/4 of
+    the highest: still water has a whole top row at one level, and its
+    landward end is the shoreline."""
 
     type: Literal["runup"] = "runup"
     name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
@@ -135,6 +140,7 @@ class RunupGauge(Spec):
     x1: Real
     y: Real = 0.0
     band: PositiveReal | None = None
+    landward: Literal["+x", "-x"] = "+x"
     interval: PositiveReal
 
     @model_validator(mode="after")
@@ -169,7 +175,7 @@ def make_recorder(spec, out_dir, dp, model):
     if isinstance(spec, Tracker):
         return TrackRecorder(spec, out_dir, model)
     if isinstance(spec, (MaxZGauge, RunupGauge)):
-        return MaxZRecorder(spec, out_dir)
+        return MaxZRecorder(spec, out_dir, dp)
     return ProbeRecorder(spec, out_dir, dp)
 
 
@@ -296,7 +302,7 @@ class ProbeRecorder:
         self.file.close()
 
 
-def highest_fluid(positions, kinds, dim, spec):
+def highest_fluid(positions, kinds, dim, spec, tie=0.0):
     """The highest fluid particle a `MaxZGauge` or `RunupGauge` sees.
 
     Parameters
@@ -309,12 +315,15 @@ def highest_fluid(positions, kinds, dim, spec):
         Dimension of the run: in 2D the y coordinates are ignored.
     spec : MaxZGauge or RunupGauge
         The gauge.
+    tie : float
+        [m]: for a `RunupGauge`, (x, y) are those of the most landward
+        particle within `tie` below the highest one.
 
     Returns
     -------
     tuple of float
-        (zmax, x, y) of the highest fluid particle centre in the gauge's
-        region [m], NaNs when the region holds no fluid particle.
+        (zmax, x, y): the highest fluid particle centre in the gauge's
+        region and where it is [m]; NaNs when the region holds no fluid.
     """
     pos = np.asarray(positions, float)
     sel = np.asarray(kinds) == 0
@@ -332,15 +341,21 @@ def highest_fluid(positions, kinds, dim, spec):
         return (float("nan"),) * 3
     cand = pos[sel]
     k = int(np.argmax(cand[:, 2]))
-    return float(cand[k, 2]), float(cand[k, 0]), float(cand[k, 1])
+    zmax = float(cand[k, 2])
+    if isinstance(spec, RunupGauge):
+        top = np.flatnonzero(cand[:, 2] >= zmax - tie)
+        sign = 1.0 if spec.landward == "+x" else -1.0
+        k = int(top[np.argmax(sign * cand[top, 0])])
+    return zmax, float(cand[k, 0]), float(cand[k, 1])
 
 
 class MaxZRecorder:
     """Samples a `MaxZGauge` or a `RunupGauge` (NumPy over the host copies of
     the particle positions) and appends to its CSV."""
 
-    def __init__(self, spec, out_dir):
+    def __init__(self, spec, out_dir, dp):
         self.spec = spec
+        self.tie = 0.25 * dp
         if isinstance(spec, MaxZGauge):
             self.path = Path(out_dir) / f"maxz_{spec.name}.csv"
             header = ["time", "zmax"]
@@ -354,7 +369,7 @@ class MaxZRecorder:
 
     def __call__(self, sim):
         m = sim.model
-        z, x, y = highest_fluid(m.world_positions(), m.host(m.kind), m.dim, self.spec)
+        z, x, y = highest_fluid(m.world_positions(), m.host(m.kind), m.dim, self.spec, self.tie)
         row = [sim.time, z] if isinstance(self.spec, MaxZGauge) else [sim.time, z, x, y]
         self.rows.append(row)
         self.writer.writerow([f"{v:.9g}" for v in row])
