@@ -278,3 +278,26 @@ def test_stop_signal_handler_first_stops_second_aborts():
             os.kill(os.getpid(), signal.SIGINT)
             time.sleep(0.01)
     assert signal.getsignal(signal.SIGINT) is before
+
+
+def test_verlet_resume_in_process_is_bitwise(tmp_path):
+    # Verlet keeps the previous step's velocity and density and an Euler-step counter; a run cut at a step
+    # where that counter is mid-cycle must continue exactly
+    case = shoal.cases.dam_break_2d(dp=0.01, end_time=0.05, output_interval=0.05,
+                                    options=SPHOptions(integrator="verlet", verlet_euler_every=7))
+    case = case.model_copy(update={"checkpoint": Checkpointing(wall_interval=0.0)})
+    ref = run_case(case, tmp_path / "ref", plot=False, handle_signals=False)
+    part = run_case(case, tmp_path / "cut", plot=False, max_steps=penultimate(ref.steps), handle_signals=False)
+    assert part.simulation.integrator.count % 7 != 0 and part.steps < ref.steps
+    res = shoal.resume_run(tmp_path / "cut", plot=False, handle_signals=False)
+    assert res.resumed_from.name == f"ckpt_{part.steps:06d}.h5" and res.steps == ref.steps
+    a, b = _state(ref.checkpoint), _state(res.checkpoint)
+    for k in ("pos", "vel", "rho", "idp"):
+        assert np.array_equal(a[k], b[k]), k
+    assert all(np.array_equal(x, y) for x, y in zip(a["extra"], b["extra"]))
+
+
+def penultimate(steps):
+    """A step count about 60 % through a run, not a multiple of 7."""
+    n = int(0.6 * steps)
+    return n if n % 7 else n + 3
