@@ -301,3 +301,35 @@ def penultimate(steps):
     """A step count about 60 % through a run, not a multiple of 7."""
     n = int(0.6 * steps)
     return n if n % 7 else n + 3
+
+
+def test_a_second_process_in_the_same_run_directory_is_refused(reference, tmp_path, capsys):
+    import shutil
+
+    from shoal.simulation.resources import lock_run_dir
+
+    toml, ref_run, res = reference
+    out = tmp_path / "run"
+    shutil.copytree(ref_run, out)
+    held = lock_run_dir(out)  # as if the run were still going
+    try:
+        capsys.readouterr()
+        assert _resume(out, "--end-time", "0.3") == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "another shoal process" in err and str(os.getpid()) in err
+    finally:
+        held.close()
+
+
+def test_extending_a_finished_run(reference, tmp_path):
+    import shutil
+
+    toml, ref_run, res = reference
+    out = tmp_path / "run"
+    shutil.copytree(ref_run, out)
+    assert _resume(out, "--end-time", "0.25") == 0
+    t = _gauge_times(out / "gauge_g1.csv")
+    assert t[: len(_gauge_times(ref_run / "gauge_g1.csv"))] == _gauge_times(ref_run / "gauge_g1.csv")
+    assert np.all(np.diff(t) > 0) and t[-1] == pytest.approx(0.248, abs=1e-9)
+    assert read_checkpoint(list_checkpoints(out)[0]).time == pytest.approx(0.25, abs=1e-12)
+    assert load_case(out / "case.toml").end_time == 0.25

@@ -188,8 +188,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     OutputError
         The disk filled up (or another write failed).
     """
-    from .simulation.checkpoint import CheckpointError, clear_checkpoints, set_aside_newer
-    from .simulation.resources import DISK_FULL, check_memory, disk_full_message
+    from .simulation.resources import DISK_FULL, check_memory, disk_full_message, lock_run_dir
 
     out_dir = Path(out_dir)
     warnings = []
@@ -203,6 +202,22 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     model = build_model(case, backend)  # bad input fails here, before anything is written
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
+        lock = lock_run_dir(out_dir)
+    except OSError as err:
+        if err.errno in DISK_FULL:
+            raise OutputError(disk_full_message(err, out_dir)) from None
+        raise InputError(f"cannot write to the output directory {out_dir}: {err.strerror or err}") from None
+    try:
+        return _locked_run(case, out_dir, backend, progress, plot, max_steps, ck, model, handle_signals, warnings)
+    finally:
+        lock.close()
+
+
+def _locked_run(case, out_dir, backend, progress, plot, max_steps, ck, model, handle_signals, warnings):
+    from .simulation.checkpoint import CheckpointError, clear_checkpoints, set_aside_newer
+    from .simulation.resources import DISK_FULL, disk_full_message
+
+    try:
         if ck is None:
             clear_checkpoints(out_dir)
         else:

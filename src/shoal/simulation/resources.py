@@ -4,7 +4,8 @@
 arrays (`shoal.check.solver_bytes`, what `Model.nbytes` then counts) exceed
 the memory available now (``MemAvailable`` of /proc/meminfo; the physical
 memory where that is unknown). `disk_full_message` words an ENOSPC/EDQUOT
-error for the user.
+error for the user; `lock_run_dir` keeps two processes out of one run
+directory.
 """
 
 from __future__ import annotations
@@ -60,6 +61,34 @@ def check_memory(case, available=None):
                          f"of memory is available here: use a larger dp (memory grows as dp^-{case.dim}), "
                          "or free memory")
     return need
+
+
+def lock_run_dir(out_dir):
+    """Hold an exclusive lock on ``out_dir/.shoal.lock`` (flock) for the
+    run: a second shoal process in the same directory (a job submitted
+    twice, a ``--resume`` while the run is still going) is refused with
+    `InputError`. Returns the open lock file; closing it releases the lock
+    (the process ending does too, however it ends)."""
+    import fcntl
+
+    path = os.path.join(out_dir, ".shoal.lock")
+    f = open(path, "a+")
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        f.seek(0)
+        pid = f.read().strip()
+        f.close()
+        raise InputError(f"another shoal process{f' (pid {pid})' if pid else ''} is running in {out_dir}; "
+                         "wait for it to end or stop it (SIGTERM writes a checkpoint) before running or "
+                         "resuming there") from None
+    except OSError:
+        return f  # a file system without locks: run unlocked
+    f.seek(0)
+    f.truncate()
+    f.write(f"{os.getpid()}\n")
+    f.flush()
+    return f
 
 
 def disk_full_message(err, out_dir, checkpoint=None):
