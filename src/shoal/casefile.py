@@ -27,9 +27,10 @@ from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeri
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
            "time_series": TimeSeriesMotion}
-from .probes import PointProbes, TestPoints, Tracker, WaveGauge
+from .probes import MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
 
-PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker}
+PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker, "maxz": MaxZGauge,
+          "runup": RunupGauge}
 _TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
 
 
@@ -223,6 +224,11 @@ TABLE_DOCS = {
     ("probes", "z1"): "top of the gauge's search line [m]",
     ("probes", "shepard"): "Shepard-normalised interpolation (true) or the plain SPH sum",
     ("probes", "counts"): "grid nodes along x, y, z",
+    ("probes", "radius"): "horizontal reach of the max-z gauge around (x, y) [m]",
+    ("probes", "x0"): "start of the run-up gauge's x range [m]",
+    ("probes", "x1"): "end of the run-up gauge's x range [m]",
+    ("probes", "band"): "width in y of the run-up gauge's strip (3D) [m]",
+    ("probes", "landward"): '"+x" or "-x": which way the beach rises',
     ("damping", "rate"): "damping rate [1/s]: velocity x max(1 - dt rate f^2, 0)",
     ("motions", "start"): "start time [s]",
     ("checkpoint", "interval"): "simulated time between checkpoints [s] (0 = none)",
@@ -245,6 +251,8 @@ KEY_DOCS = {
     "coef_sound": "c0 = coef_sound * sqrt(g depth) (or * u_max)",
     "viscosity": '"artificial" or "laminar"',
     "alpha": "artificial viscosity coefficient",
+    "visco_bound_factor": "factor on the viscous term of fluid-wall pairs (0 = free-slip walls)",
+    "no_slip": "no-slip wall velocity of Adami et al. (2012) in the viscous term",
     "nu": "kinematic viscosity [m^2/s] (laminar)",
     "density_diffusion": '"fourtakas", "molteni" or "none"',
     "delta": "density diffusion coefficient",

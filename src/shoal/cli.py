@@ -2,14 +2,19 @@
 
     shoal run [CASE | FILE.toml] [--dp M] [--end-time S] [--output-interval S] [--out DIR]
               [--precision float32|float64] [--backend cpu|cuda] [--integrator NAME] [--param KEY=VALUE]
+              [--checkpoint-interval S]
+    shoal run --resume RUN_DIR [--end-time S]    continue a stopped run from its newest checkpoint
     shoal check CASE | FILE.toml     validate; print particle counts, memory and the time step
     shoal new NAME [-o FILE.toml]    write a commented case file of a built-in case to start from
     shoal plot-case CASE | FILE.toml [-o FILE.png]
+    shoal post RUN_DIR [--gauges] [--mean-flow] [--tracks] [--plane AXIS=VALUE] [--out DIR]
     shoal cases
     shoal info
 
 Bad input prints one line ``shoal: error: ...`` and exits with status 2;
-a run that goes unstable prints where and why and exits with status 3.
+a run that goes unstable prints where and why and exits with status 3;
+a run stopped by SIGINT/SIGTERM writes a checkpoint and exits with 130/143
+(``shoal run --resume RUN_DIR`` continues it); a full disk exits with 4.
 """
 
 from __future__ import annotations
@@ -19,7 +24,7 @@ import inspect
 import sys
 from pathlib import Path
 
-from .errors import InputError, InstabilityError
+from .errors import InputError, InstabilityError, OutputError, RunInterrupted
 
 DEFAULT_CASE = "dam-break-2d"
 
@@ -46,14 +51,19 @@ def build_parser():
     p = _Parser(prog="shoal", description="Weakly-compressible SPH for free-surface coastal and hydraulic flows.")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     r = sub.add_parser("run", help="run a built-in case or a case file (default: the 2D dam-break demo)")
-    r.add_argument("case", nargs="?", default=DEFAULT_CASE,
-                   help="built-in case name (see `shoal cases`) or a TOML case file")
+    r.add_argument("case", nargs="?", default=None,
+                   help=f"built-in case name (see `shoal cases`) or a TOML case file (default: {DEFAULT_CASE})")
     _case_args(r)
     r.add_argument("--out", default=None, help="output directory (default: runs/CASE)")
     r.add_argument("--backend", default="cpu", help="compute backend: cpu (default) or cuda")
     r.add_argument("--overwrite", action="store_true", help="replace a run already in the output directory")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--no-plot", action="store_true", help="no PNG of the final state")
+    r.add_argument("--resume", default=None, metavar="RUN_DIR",
+                   help="continue the run in RUN_DIR from its newest valid checkpoint (with --end-time: extend it)")
+    r.add_argument("--checkpoint-interval", type=_positive_float("--checkpoint-interval"), default=None,
+                   metavar="SECONDS", help="simulated time between checkpoints [s] (also: [checkpoint] in a case "
+                                           "file; default: every 15 min of wall-clock time)")
     c = sub.add_parser("check", help="validate a case; print particle counts, memory estimate and time step")
     c.add_argument("case", help="built-in case name or a TOML case file")
     _case_args(c)
@@ -68,6 +78,20 @@ def build_parser():
     pc.add_argument("case", help="built-in case name or a TOML case file")
     pc.add_argument("-o", "--output", default=None, help="PNG to write (default: CASE_case.png)")
     _case_args(pc)
+    po = sub.add_parser("post", help="standard plots of a finished run (PNGs in RUN_DIR/post/)")
+    po.add_argument("run_dir", help="output directory of a run")
+    po.add_argument("--out", default=None, help="folder for the PNGs (default: RUN_DIR/post)")
+    po.add_argument("--gauges", action="store_true", help="time series of the gauge, max-z, run-up and probe files")
+    po.add_argument("--mean-flow", action="store_true",
+                    help="period-mean current, set-up and profiles from the test-point grids")
+    po.add_argument("--tracks", action="store_true", help="trajectories of the tracked particles")
+    po.add_argument("--plane", default=None, metavar="AXIS=VALUE",
+                    help="|v| of the particles within dp of a plane, e.g. z=0.05 or y=0.15 (mid: the middle y plane)")
+    po.add_argument("--time", type=float, default=None, help="snapshot time for --plane [s] (default: the last)")
+    po.add_argument("--period", type=_positive_float("--period"), default=None,
+                    help="averaging period [s] (default: the case's piston period, else the whole record)")
+    po.add_argument("--periods", type=int, default=None, help="average over the last N periods (default: all)")
+    po.add_argument("--start", type=float, default=None, help="ignore the record before this time [s]")
     sub.add_parser("cases", help="list the built-in cases")
     sub.add_parser("info", help="show the backends available here")
     return p
@@ -146,12 +170,42 @@ def _make_case(args):
     return case
 
 
+def _cmd_resume(args):
+    from .runner import resume_run
+
+    fixed = [opt for opt, v in (("a case", args.case), ("--dp", args.dp), ("--output-interval", args.output_interval),
+                                ("--precision", args.precision), ("--integrator", args.integrator),
+                                ("--kernel", args.kernel), ("--param", args.param), ("--half", args.half),
+                                ("--out", args.out), ("--overwrite", args.overwrite)) if v]
+    if fixed:
+        raise InputError(f"--resume continues the run in {args.resume} with its own case; {', '.join(fixed)} cannot "
+                         "be given with it (--end-time and --checkpoint-interval can)")
+    out = Path(args.resume)
+    if not out.is_dir():
+        raise InputError(f"--resume {args.resume}: no such run directory")
+    print(f"shoal: resuming {out}")
+    res = resume_run(out, end_time=args.end_time, checkpoint_interval=args.checkpoint_interval,
+                     backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
+                     plot=not args.no_plot)
+    print(f"shoal: resumed from {res.resumed_from.name}; now at step {res.steps}, t = {res.time:.4g} s "
+          f"({res.wall_seconds:.1f} s wall in all); {res.snapshots} snapshots in {res.out_dir}/; "
+          f"escaped particles: {res.escaped}")
+    return 0
+
+
 def cmd_run(args):
     from .backends import check_backend
     from .runner import run_case
 
     check_backend(args.backend)
+    if args.resume is not None:
+        return _cmd_resume(args)
+    if args.case is None:
+        args.case = DEFAULT_CASE
     case = _make_case(args)
+    if args.checkpoint_interval is not None:
+        case = case.model_copy(update={"checkpoint": case.checkpoint.model_copy(
+            update={"interval": args.checkpoint_interval})})
     out = args.out or f"runs/{case.name}"
     if not args.overwrite and (Path(out) / "resolved.json").exists():
         raise InputError(f"{out} already holds a run (resolved.json); choose another --out directory "
@@ -206,6 +260,17 @@ def cmd_plot_case(args):
     return 0
 
 
+def cmd_post(args):
+    from .post import post
+
+    written = post(args.run_dir, out=args.out, gauges=args.gauges, mean_flow=args.mean_flow, tracks=args.tracks,
+                   plane=args.plane, time=args.time, period=args.period, periods=args.periods, start=args.start)
+    print(f"shoal: wrote {len(written)} PNG(s):")
+    for path in written:
+        print(f"  {path}")
+    return 0
+
+
 def cmd_cases(args):
     from .cases import CASES
 
@@ -253,16 +318,24 @@ def main(argv=None):
         return 0
     try:
         return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info, "check": cmd_check, "new": cmd_new,
-                "plot-case": cmd_plot_case}[args.command](args)
+                "plot-case": cmd_plot_case, "post": cmd_post}[args.command](args)
     except InputError as err:
         sys.stderr.write(f"shoal: error: {err}\n")
         return 2
     except InstabilityError as err:
         sys.stderr.write(f"shoal: run stopped: {err}\n")
         return 3
-    except KeyboardInterrupt:
-        sys.stderr.write("shoal: interrupted; snapshots written so far are kept\n")
-        return 130
+    except RunInterrupted as err:
+        sys.stderr.write(f"shoal: {err}\n")
+        return err.exit_status
+    except OutputError as err:
+        sys.stderr.write(f"shoal: error: {err}\n")
+        return 4
+    except KeyboardInterrupt as err:
+        signum = getattr(err, "signum", 2)
+        sys.stderr.write("shoal: aborted; snapshots and checkpoints written so far are kept (resume with "
+                         "shoal run --resume RUN_DIR)\n")
+        return 128 + signum
 
 
 if __name__ == "__main__":

@@ -208,6 +208,7 @@ class Model:
         self.time = 0.0  # simulated time of the state (set by the Simulation)
         self.n = n
         self.n_escaped = 0
+        self.on_escape = None  # on_escape(model, start, stop): rows start..stop just left the domain
         self._init_motions(positions[:, cols], kinds, motions, motion_of)
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
 
@@ -367,6 +368,8 @@ class Model:
                     f"(lower cfl or raise coef_sound), particles penetrating a wall, or too coarse a resolution")
             self.n_escaped += n_before - n
             self.n = n
+            if self.on_escape is not None:
+                self.on_escape(self, n, n_before)
             if self.n_fluid == 0:
                 raise InstabilityError("every fluid particle has left the domain box "
                                        f"{self.grid.lo.tolist()} - {self.grid.hi.tolist()} m")
@@ -379,12 +382,12 @@ class Model:
         if self.spec.sps:
             b.timed(b.sps, n, (self.pos, self.vel, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
                                self.grid.gdims_arr, P, self.tau))
-        b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
-                             self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
-                             self.vmax, self.tau, self.planes, self.ptable, self.vwall))
         if self.spec.no_slip:
             b.timed(b.wall_velocity, n, (self.pos, self.vel, self.kind, self.grid.cell, self.grid.cell_start,
                                          self.grid.gdims_arr, P, self.vwall))
+        b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
+                             self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
+                             self.vmax, self.tau, self.planes, self.ptable, self.vwall))
 
     def time_step_limit(self):
         """Variable time step of Monaghan & Kos (1999), as in DualSPHysics:
