@@ -37,3 +37,21 @@ def test_celerity_from_gauge_arrivals():
         arrivals.append(arrival_time(t, level, 0.115))
     assert celerity(xs, arrivals) == pytest.approx(c, rel=2e-3)
     assert math.isnan(arrival_time(t, np.zeros_like(t), 0.1))
+
+
+def test_undulations_count_secondary_waves_not_noise():
+    """A front followed by decaying secondary waves (period 0.5 s) has crests, the first above d1;
+    a smooth rise to d1 with 0.5 % noise has none."""
+    from shoal.analysis import undulations
+
+    rng = np.random.default_rng(0)
+    d0, d1 = 0.1, 0.13
+    t = np.linspace(0, 3, 601)
+    ta = 1.0
+    s = np.clip((t - ta) / 0.1, 0, 1)
+    und = d0 + (d1 - d0) * s + 0.012 * s * np.exp(-(t - ta) / 1.5) * np.sin(2 * np.pi * (t - ta) / 0.5)
+    n, first = undulations(t, und, ta, d1)
+    assert n >= 2 and first > 0.05
+    smooth = d0 + (d1 - d0) * 0.5 * (1 + np.tanh((t - ta) / 0.05)) + 0.0005 * rng.standard_normal(len(t))
+    n, first = undulations(t, smooth, ta, d1)
+    assert n == 0 and abs(first) < 0.03

@@ -1,9 +1,10 @@
 """Analysis of simulation results against reference data."""
 
-from .bore import arrival_time, bore_from_inflow, celerity
+from .bore import arrival_time, bore_from_inflow, celerity, level_behind, undulations
 from .front import surge_front
 from .mean_flow import depth_average, mse, period_average, rmse, set_up, vorticity
 from .reference import load_reference, mean_relative_error
 
 __all__ = ["surge_front", "load_reference", "mean_relative_error", "period_average", "depth_average", "set_up",
-           "vorticity", "rmse", "mse", "bore_from_inflow", "arrival_time", "celerity"]
+           "vorticity", "rmse", "mse", "bore_from_inflow", "arrival_time", "celerity",
+           "level_behind", "undulations"]

@@ -63,3 +63,49 @@ def celerity(xs, arrivals):
     if ok.sum() < 2:
         raise InputError("the bore reached fewer than two gauges")
     return float(np.polyfit(ts[ok], xs[ok], 1)[0])
+
+
+def level_behind(times, levels, t_arrival, delay=0.15):
+    """Mean level [m] behind the front: the gauge record from `delay` s after the
+    bore's arrival to its end (over the undulations of an undular bore)."""
+    t = np.asarray(times, float)
+    z = np.asarray(levels, float)
+    w = t >= t_arrival + delay
+    if w.sum() < 5:
+        raise InputError(f"the record ends less than {delay:g} s after the bore arrived: run longer")
+    return float(np.mean(z[w]))
+
+
+def undulations(times, levels, t_arrival, d1, window=1.0):
+    """Secondary waves behind a bore front, from a gauge record.
+
+    Returns ``(n_crests, first_crest)``: the number of wave crests (local
+    maxima of the record smoothed over 5 samples, standing more than 2 % of
+    d1 above the neighbouring troughs)
+    within `window` s after `t_arrival`, and the first crest's height over
+    the conjugate depth d1, (z_max - d1) / d1. An undular bore (Froude
+    number below about 1.3; Favre 1935, Chanson 2009) shows crests with the
+    first one well above d1; a breaking bore a single rise to d1 with no
+    secondary waves.
+    """
+    t = np.asarray(times, float)
+    z = np.asarray(levels, float)
+    w = (t >= t_arrival) & (t <= t_arrival + window)
+    if w.sum() < 10:
+        raise InputError("too few samples after the bore's arrival")
+    zw = np.convolve(z[w], np.ones(5) / 5, mode="valid")
+    tol = 0.02 * d1
+    crests, low, high, rising = 0, zw[0], zw[0], True
+    for v in zw[1:]:  # a hysteresis peak counter (tolerance tol): noise is not a crest
+        if rising:
+            if v > high:
+                high = v
+            elif v < high - tol:
+                crests += 1
+                rising, low = False, v
+        else:
+            if v < low:
+                low = v
+            elif v > low + tol:
+                rising, high = True, v
+    return crests, float((zw.max() - d1) / d1)
