@@ -150,7 +150,7 @@ class Model:
                                   sym_y=float(symmetry_y[0]) if symmetry_y is not None else 0.0,
                                   grid_lo_y=float(lo3[1]), inv_cs=options.cells_per_support / (2.0 * self.h))
         self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
-        from .physics.planes import plane_force_table
+        from .physics.planes import plane_tables
 
         parr = np.zeros((len(planes), 4))
         for k, (point, normal) in enumerate(planes):
@@ -162,7 +162,7 @@ class Model:
             nrm /= np.linalg.norm(nrm)
             parr[k, :3] = nrm
             parr[k, 3] = float(nrm @ np.asarray(point, float))
-        ptable = plane_force_table(dim, self.dp, self.h, mk_k) if planes else np.zeros(2)
+        ptable = plane_tables(self.spec, self.dp, self.h, mk_k) if planes else np.zeros((2, 2))
 
         cols = [0, 1, 2] if dim == 3 else [0, 2]
         lo = np.asarray(domain[0], dtype=np.float64)[cols]

@@ -59,3 +59,20 @@ def make_kernels(jit, spec):
             return P.agrad * (m075 * a * a + three * b * b) / max(q, tiny)
 
     return w, grad_factor
+
+
+def grad_factor_array(kernel, dim, h, q):
+    """NumPy form of ``grad_factor`` (fr = (dW/dr) / r [1/m^(dim+2)]) for arrays of q, in float64:
+    for tables built once per run (e.g. the wall planes' viscous term)."""
+    import numpy as np
+
+    from .spec import kernel_normalisation
+
+    q = np.asarray(q, dtype=np.float64)
+    aw = kernel_normalisation(kernel, dim, h)
+    if kernel == WENDLAND:
+        t = np.clip(1.0 - 0.5 * q, 0.0, None)
+        return -5.0 * aw / (h * h) * t**3
+    a = np.clip(2.0 - q, 0.0, None)
+    b = np.clip(1.0 - q, 0.0, None)
+    return aw / (h * h) * (-0.75 * a * a + 3.0 * b * b) / np.maximum(q, 1e-6)

@@ -192,8 +192,8 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             acc = (zero, zero, zero, zero, zero, zero, zero, zero)
             ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
             if use_planes:
-                qx, qy, qz = plane_accel(pos[i, 0], pos[i, 1] if dim == 3 else 0.0, pos[i, dim - 1], planes,
-                                         ptable, P)
+                qx, qy, qz = plane_accel(pos[i, 0], pos[i, 1] if dim == 3 else 0.0, pos[i, dim - 1], vix, viy, viz,
+                                         rho[i], planes, ptable, P)
                 ax += qx
                 ay += qy
                 az += qz
