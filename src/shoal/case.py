@@ -48,6 +48,28 @@ def _exact_int(name, allowed):
 Options = Annotated[SPHOptions, BeforeValidator(SPHOptions.from_table)]
 
 
+def _plain_record(d):
+    """`Case.parameters` holds plain values only (what a TOML case file can
+    hold: numbers, strings, booleans, arrays, tables); None is allowed at the
+    top level (left out when written)."""
+    if not isinstance(d, dict):
+        return d
+
+    def plain(v, where):
+        if isinstance(v, np.generic):
+            v = v.item()
+        if isinstance(v, (bool, int, float, str)):
+            return v
+        if isinstance(v, (list, tuple)):
+            return [plain(x, f"{where}[{i}]") for i, x in enumerate(v)]
+        if isinstance(v, dict) and all(isinstance(k, str) for k in v):
+            return {k: plain(x, f"{where}.{k}") for k, x in v.items()}
+        shown = "nothing" if v is None else repr(v)[:60]
+        raise ValueError(f"{where} = {shown}: a parameter is a number, string, boolean, array or table")
+
+    return {k: (None if v is None else plain(v, str(k))) for k, v in d.items()}
+
+
 class Domain(Spec):
     """The computational box [lo, hi] [m]: particles leaving it are removed
     from the computation (and counted). y is ignored in 2D.
@@ -280,7 +302,7 @@ class Case(BaseModel):
     output: Output = Output()
     checkpoint: Checkpointing = Checkpointing()
     max_escaped_fraction: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False, strict=True)] = 1.0
-    parameters: dict[str, Any] = {}
+    parameters: Annotated[dict[str, Any], BeforeValidator(_plain_record)] = {}
 
     _particles: Particles | None = PrivateAttr(default=None)
     _key: Any = PrivateAttr(default=None)
@@ -299,6 +321,44 @@ class Case(BaseModel):
             raise ValueError("domain.periodic = ['y'] is not allowed in 2D (the x-z plane); use ['x']")
         if self.fluid.depth is None and self.fluid.u_max is None:
             raise ValueError("fluid needs a depth (m) or a u_max (m/s) to set the speed of sound")
+        g = float(np.linalg.norm(self.fluid.gravity))  # as the Model computes it (inf if it overflows)
+        u = self.fluid.u_max if self.fluid.u_max is not None else math.sqrt(g * self.fluid.depth)
+        c0 = self.options.coef_sound * u
+        if not (0.0 < c0 < math.inf):
+            if self.fluid.u_max is None and g == 0.0:
+                raise ValueError(f"fluid.gravity = {list(self.fluid.gravity)}: without gravity the speed of sound "
+                                 "c0 = coef_sound sqrt(|g| depth) is 0; give fluid.u_max, the largest expected "
+                                 "speed [m/s]")
+            raise ValueError(f"the speed of sound c0 = coef_sound x {'u_max' if self.fluid.u_max else 'sqrt(|g| depth)'}"
+                             f" = {c0:g} m/s must be a positive finite number: check fluid.gravity, fluid.depth, "
+                             "fluid.u_max and options.coef_sound")
+        if (self.planes or any(s.boundary == "repulsive" for s in self.solids)) and \
+                (self.fluid.depth is None or g == 0.0):
+            raise ValueError("repulsive boundaries and wall planes push with K = |g| depth (Monaghan & Kajtar "
+                             "2009): they need gravity and a fluid.depth")
+        for a in (self.domain.periodic if self.domain is not None else []):
+            k = "xyz".index(a)
+            length = self.domain.hi[k] - self.domain.lo[k]
+            if abs(length / self.dp - round(length / self.dp)) > 1e-6:
+                raise ValueError(f"domain.periodic = {self.domain.periodic}: the domain is {length:.6g} m long in {a}, "
+                                 f"not a whole number of particle spacings dp = {self.dp:g} m (the lattice would not "
+                                 f"join up across the period); make it {max(1, round(length / self.dp)) * self.dp:.6g} m")
+        if len(self.symmetry_planes) > 1:
+            raise ValueError(f"{len(self.symmetry_planes)} symmetry_planes given; one per case is supported")
+        for i, sp in enumerate(self.symmetry_planes):
+            if self.dim != 3:
+                raise ValueError(f"symmetry_planes[{i}]: a symmetry plane is a plane y = const of a 3D case; a 2D "
+                                 "case (the x-z plane) has none")
+            n = sp.normal
+            if abs(n[0]) > 1e-9 or abs(n[2]) > 1e-9 or abs(abs(n[1]) - 1.0) > 1e-9:
+                raise ValueError(f"symmetry_planes[{i}].normal = {list(n)}: only planes y = const are supported; "
+                                 "use [0.0, 1.0, 0.0] or [0.0, -1.0, 0.0]")
+        seen = set()
+        for i, pr in enumerate(self.probes):
+            if (pr.type, pr.name) in seen:
+                raise ValueError(f"probes[{i}]: a second {pr.type!r} probe named {pr.name!r} would write the same "
+                                 "file; give each probe its own name")
+            seen.add((pr.type, pr.name))
         return self
 
     # ------------------------------------------------------------ derived
@@ -353,6 +413,9 @@ class Case(BaseModel):
         if self._particles is not None and self._key == key:
             return self._particles
         lo, hi = self._generation_box()
+        from .simulation.resources import check_generation_size
+
+        check_generation_size(self, lo, hi)  # a tiny dp on a big case: refused now, not after hours
         moving = {s.name for s in self.solids if s.motion is not None}
         solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}")
                   for i, s in enumerate(self.solids)]
@@ -371,8 +434,18 @@ class Case(BaseModel):
                               p.spacing[keep], p.body_names)
         for k in range(len(self.fluids)):
             if not np.any(p.region == k):
-                raise InputError(f"fluids[{k}] ({self.fluids[k].shape.type}) holds no particle: it lies inside "
-                                 "solids, outside the domain, or is thinner than dp")
+                what = f"fluids[{k}] ({self.fluids[k].shape.type}) holds no particle"
+                flo, fhi = self.fluids[k].shape.bounds(self.dim)
+                axes = (0, 2) if self.dim == 2 else (0, 1, 2)
+                dom = " x ".join(f"[{lo[a]:.4g}, {hi[a]:.4g}]" for a in axes)
+                if any(fhi[a] < lo[a] or flo[a] > hi[a] for a in axes):
+                    raise InputError(f"{what}: it lies outside the domain {dom} m; move it or enlarge the domain")
+                thin = [f"{'xyz'[a]} ({fhi[a] - flo[a]:.4g} m)" for a in axes if fhi[a] - flo[a] < self.dp]
+                if thin:
+                    raise InputError(f"{what}: it is thinner than dp = {self.dp:g} m along {', '.join(thin)}; "
+                                     "make it thicker or dp smaller")
+                raise InputError(f"{what}: it lies inside solids (a lattice node inside a solid belongs to the "
+                                 "solid), outside the domain, or is thinner than dp; check the solids' shapes")
         if self.dim == 2:
             p.positions[:, 1] = 0.0
         self._particles, self._key = p, key
@@ -422,5 +495,6 @@ class Case(BaseModel):
                 raise InputError(f"solid {s.name!r}: a bathymetry given as a Python function cannot be written "
                                  "to a case file; sample it on a grid (Bathymetry(grid=...))")
         d = self.model_dump(mode="json", exclude_none=True)
-        d["parameters"] = {k: v for k, v in d.get("parameters", {}).items() if v is not None}
+        # from the field itself (plain values, see _plain_record): the JSON dump would turn inf and nan into None
+        d["parameters"] = {k: v for k, v in self.parameters.items() if v is not None}
         return d

@@ -45,6 +45,8 @@ def load_case(path, overrides=None):
         One line: the file, the key, the value and what is allowed.
     """
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"case file {str(path)!r} is a directory; give a TOML case file")
     if not path.is_file():
         raise InputError(f"case file {str(path)!r} not found")
     try:
@@ -310,7 +312,8 @@ def dumps_case(case, commented=True, file_name="case.toml"):
         return text
     lines = []
     table = ""
-    for line in text.splitlines():
+    # split on "\n" only: str.splitlines also breaks at \x85, \u2028, ... which a TOML string may hold
+    for line in text.rstrip("\n").split("\n"):
         t = re.match(r"^\[\[?([A-Za-z_.]+)\]\]?$", line)
         if t:
             table = t.group(1).split(".")[0]

@@ -31,7 +31,8 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
     (3 int32); the integrator's saved state (symplectic and
     predictor-corrector: positions float64 [dim], velocity [dim], density;
     Verlet: velocity [dim], density); with SPS turbulence, the stress (3
-    components in 2D, 6 in 3D); with moving bodies, their initial
+    components in 2D, 6 in 3D); with no-slip walls, the wall velocity
+    [dim]; with moving bodies, their initial
     positions float64 [dim] and motion index (int32). Plus 4 bytes per grid
     cell.
     """
@@ -47,6 +48,10 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
         per += f * ntau  # tau / rho^2
     else:
         fixed += f * ntau
+    if options.no_slip:
+        per += f * dim  # the no-slip wall velocity
+    else:
+        fixed += f * dim
     if moving:
         per += 8 * dim + 4
     per += 8 * dim + f * dim + f + 4 + 1
@@ -58,9 +63,106 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
     return per * n + 4 * (n_cells + 2) + fixed
 
 
+def probe_samples(case, spec):
+    """Samples a probe takes during the run (one at t = 0, then every interval)."""
+    return int(math.floor(case.end_time / spec.interval + 1e-9)) + 1
+
+
+def probe_record_values(case, spec):
+    """(values held per sample, sample points) of a probe: what its recorder
+    keeps in memory and in every checkpoint by the end of the run is
+    values x samples (test-point grids: u, v, w, p, rho and the kernel sum per
+    node; point probes: u, v, w, p, rho per point; gauges: the level; max-z
+    and run-up gauges: z (and x, y))."""
+    if spec.type == "grid":
+        nodes = math.prod(spec.counts)
+        return 6 * nodes, nodes
+    if spec.type == "points":
+        return 1 + 5 * len(spec.points), len(spec.points)
+    if spec.type == "gauge":
+        return 2, max(2, math.ceil((spec.z1 - spec.z0) / (0.5 * case.dp)) + 1)
+    if spec.type == "maxz":
+        return 2, 0
+    if spec.type == "runup":
+        return 4, 0
+    return 0, 0  # trackers write their rows to the CSV only
+
+
+def probe_bytes(case, specs=None):
+    """Bytes the probes (`specs`, default all the case's) hold in memory by
+    the end of the run: their sample points and sampling buffers, and the
+    records they keep (a test-point grid keeps every sample for its NetCDF
+    file; the CSV probes keep their rows as Python floats, about 32 bytes a
+    value)."""
+    f = np.dtype(case.options.precision).itemsize
+    total = 0
+    for spec in case.probes if specs is None else specs:
+        values, points = probe_record_values(case, spec)
+        n = probe_samples(case, spec)
+        per_value = f if spec.type == "grid" else 32
+        total += values * n * per_value + points * (24 + (3 + case.dim) * f)
+    return total
+
+
+def check_probes(case, n_particles):
+    """`InputError` for a probe that would measure nothing: a point, gauge,
+    grid node or tracker start outside the computational domain, a run-up
+    range that misses it, a tracked id that is no particle."""
+    from .errors import InputError
+
+    lo, hi = case.resolved_domain()
+    axes = (0, 2) if case.dim == 2 else (0, 1, 2)
+    flat = (0,) if case.dim == 2 else (0, 1)
+    dom = " x ".join(f"[{lo[a]:.4g}, {hi[a]:.4g}]" for a in axes) + (" m (x, z)" if case.dim == 2 else " m (x, y, z)")
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(np.concatenate([lo, hi])))))
+
+    def outside(pt, which=axes):
+        return any(not (lo[a] - tol <= pt[a] <= hi[a] + tol) for a in which)
+
+    for i, pr in enumerate(case.probes):
+        where = f"probes[{i}] ({pr.type} {pr.name!r})"
+        if pr.type in ("points", "tracker"):
+            pts = pr.points if pr.type == "points" else pr.start
+            for k, pt in enumerate(pts):
+                if outside(pt):
+                    key = "points" if pr.type == "points" else "start"
+                    raise InputError(f"{where}: {key}[{k}] = {list(pt)} lies outside the domain {dom}; a probe must "
+                                     "lie inside it")
+            bad = [j for j in getattr(pr, "ids", []) if j >= n_particles]
+            if bad:
+                raise InputError(f"{where}: ids {bad[:5]} are no particles; the case has {n_particles:,} "
+                                 f"(ids 0 to {n_particles - 1:,})")
+        elif pr.type in ("gauge", "maxz"):
+            if outside((pr.x, pr.y, 0.0), flat):
+                xy = f"x = {pr.x:g}" + (f", y = {pr.y:g}" if case.dim == 3 else "")
+                raise InputError(f"{where}: {xy} lies outside the domain {dom}; a gauge must stand inside it")
+            if pr.type == "gauge" and (pr.z1 < lo[2] or pr.z0 > hi[2]):
+                raise InputError(f"{where}: z0 .. z1 = {pr.z0:g} .. {pr.z1:g} m misses the domain's z range "
+                                 f"[{lo[2]:.4g}, {hi[2]:.4g}] m")
+        elif pr.type == "grid":
+            for a, (node_axis, name) in enumerate(zip(pr.axes(), "xyz")):
+                if a in axes and (node_axis.min() < lo[a] - tol or node_axis.max() > hi[a] + tol):
+                    raise InputError(f"{where}: its nodes reach {name} = [{node_axis.min():.4g}, "
+                                     f"{node_axis.max():.4g}] m, outside the domain {dom}; a grid must lie inside it")
+        elif pr.type == "runup":
+            if pr.x1 < lo[0] or pr.x0 > hi[0] or (case.dim == 3 and outside((0.0, pr.y, 0.0), (1,))):
+                raise InputError(f"{where}: x0 .. x1 = {pr.x0:g} .. {pr.x1:g} m"
+                                 + (f" at y = {pr.y:g} m" if case.dim == 3 else "")
+                                 + f" misses the domain {dom}")
+
+
 def check_case(case):
-    """Lines describing `case`: particles, memory, time step, output size."""
+    """Lines describing `case`: particles, memory, time step, output size,
+    checkpoint size. Raises `InputError` for what would stop the run: a
+    geometry error, a probe outside the domain, a missing motion file, more
+    memory than this machine has."""
+    from .simulation.checkpoint import CHECKPOINT_OVERHEAD, checkpoint_bytes
+    from .simulation.resources import check_memory
+
     p = case.particles()
+    check_probes(case, len(p))
+    for m in case.motions:
+        m.kinematics(0.0)  # reads a time-series file now: a missing or bad one is an error here, not in the run
     lo, hi = case.resolved_domain()
     o = case.options
     dim = case.dim
@@ -76,8 +178,11 @@ def check_case(case):
     dt_c = o.cfl * h / c0
     dt_g = o.cfl * math.sqrt(h / g) if g > 0 else math.inf
     dt = o.fixed_dt if o.fixed_dt is not None else min(dt_c, dt_g)
-    steps = math.ceil(case.end_time / dt)
-    snaps = int(math.floor(case.end_time / case.output.interval + 1e-9)) + 1
+    steps = case.end_time / dt if dt > 0 else math.inf
+    # a snapshot every interval, at most one a step (inf and huge counts are printed, not turned into ints)
+    snaps = min(case.end_time / case.output.interval + 1e-9, steps) + 1
+    snaps = math.floor(snaps) if snaps < 1e15 else snaps
+    steps = math.ceil(steps) if steps < 1e15 else steps
     counts = p.counts()
     lines = [f"case {case.name}: {case.description}" if case.description else f"case {case.name}",
              f"  {dim}D, dp = {case.dp:g} m, h = {h:.4g} m ({o.kernel}), c0 = {c0:.4g} m/s, "
@@ -92,12 +197,26 @@ def check_case(case):
     lines.append("  domain: " + " x ".join(f"[{lo[a]:.4g}, {hi[a]:.4g}]" for a in axes) + " m"
                  + ("  (x, z)" if dim == 2 else "  (x, y, z)"))
     mem_host = physical_memory()
+    if mem_host:
+        check_memory(case, available=mem_host)  # the run could not fit on this machine at all
+    pmem = probe_bytes(case)
     lines.append(f"  memory: {mem / 2**20:,.1f} MiB for the solver ({mem / n:.0f} B/particle)"
+                 + (f" + {pmem / 2**20:,.3g} MiB for the probes' samples" if pmem >= 2**20 else "")
                  + (f"; this machine has {mem_host / 2**30:.1f} GiB" if mem_host else ""))
     lines.append(f"  time step: {dt:.3g} s ({'fixed' if o.fixed_dt else f'CFL {o.cfl}, acoustic limit at rest'})"
                  f"; about {steps:,} steps to t = {case.end_time:g} s")
-    lines.append(f"  output: {snaps} snapshots every {case.output.interval:g} s, about "
+    lines.append(f"  output: {snaps:,} snapshots every {case.output.interval:g} s, about "
                  f"{snaps * n * VTU_BYTES_PER_PARTICLE / 2**20:.3g} MiB")
+    moving = bool(np.any(p.kinds == 2))
+    records = sum(probe_record_values(case, s)[0] * probe_samples(case, s) for s in case.probes if s.type != "tracker")
+    ck = checkpoint_bytes(n, dim, o, moving)
+    ck_end = checkpoint_bytes(n, dim, o, moving, records)
+    cfg = case.checkpoint
+    when = ([f"every {cfg.interval:g} s"] if cfg.interval > 0 else []) + \
+        ([f"every {cfg.wall_interval:g} s of wall-clock time"] if cfg.wall_interval > 0 else []) + ["at the end"]
+    lines.append(f"  checkpoints: {ck / 2**20:.3g} MiB each ({(ck - CHECKPOINT_OVERHEAD) / n:.0f} B/particle"
+                 + (f"; {ck_end / 2**20:.3g} MiB by the end with the probes' records" if ck_end > 1.01 * ck else "")
+                 + f"), {', '.join(when)}; the newest {cfg.keep} kept: up to {cfg.keep * ck_end / 2**20:.3g} MiB")
     if case.motions:
         lines.append("  motions: " + ", ".join(f"{m.name} ({m.type})" for m in case.motions))
     return lines

@@ -133,6 +133,24 @@ def _is_file(name):
     return name.endswith(".toml") or "/" in name or Path(name).is_file()
 
 
+def _get_case_checked(get_case, name, kwargs, params):
+    """get_case(name, **kwargs), a --param value of the wrong kind being one line of InputError."""
+    from pydantic import ValidationError
+
+    from .casefile import format_validation_error
+
+    given = ", ".join(f"{k}={v!r}" for k, v in params.items())
+    try:
+        return get_case(name, **kwargs)
+    except ValidationError as err:
+        raise InputError(f"case {name!r} with --param {given}: {format_validation_error(err)}") from None
+    except (TypeError, AttributeError) as err:
+        if not params:
+            raise
+        raise InputError(f"case {name!r}: a --param value has the wrong kind ({given}): "
+                         f"{str(err).splitlines()[0]}") from None
+
+
 def _make_case(args):
     from .cases import CASES, get_case
 
@@ -163,7 +181,7 @@ def _make_case(args):
             kwargs["output_interval"] = args.output_interval
         if args.end_time is not None:
             kwargs["end_time"] = args.end_time
-        case = get_case(args.case, **kwargs)
+        case = _get_case_checked(get_case, args.case, kwargs, params)
     changes = {k: getattr(args, k) for k in ("precision", "integrator", "kernel") if getattr(args, k, None) is not None}
     if changes:
         case = case.with_options(**changes)

@@ -226,7 +226,8 @@ class TimeSeriesMotion(Motion):
         try:
             a = np.genfromtxt(p, delimiter="," if p.suffix == ".csv" else None, comments="#")
         except ValueError as exc:
-            raise InputError(f"motion {self.name!r}: {self.file!r} could not be read: {exc}") from None
+            raise InputError(f"motion {self.name!r}: {self.file!r} could not be read: {' '.join(str(exc).split())}") \
+                from None
         a = np.atleast_2d(a)
         a = a[np.all(np.isfinite(a), axis=1)]
         if a.ndim != 2 or a.shape[1] < 2 or a.shape[1] > 4 or len(a) < 2:

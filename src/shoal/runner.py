@@ -50,7 +50,10 @@ class RunResult:
 
 def build_model(case, backend="cpu"):
     """The `Model` of a `Case`: generate its particles and compile the scheme."""
+    from .check import check_probes
+
     p = case.particles()
+    check_probes(case, len(p))  # a probe outside the domain or a tracked id that is no particle
     sym = None
     if case.symmetry_planes:
         if len(case.symmetry_planes) > 1:
@@ -206,6 +209,8 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     except OSError as err:
         if err.errno in DISK_FULL:
             raise OutputError(disk_full_message(err, out_dir)) from None
+        if out_dir.exists() and not out_dir.is_dir():
+            raise InputError(f"the output directory {out_dir} is a file; choose another --out directory") from None
         raise InputError(f"cannot write to the output directory {out_dir}: {err.strerror or err}") from None
     try:
         return _locked_run(case, out_dir, backend, progress, plot, max_steps, ck, model, handle_signals, warnings)

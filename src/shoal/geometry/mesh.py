@@ -104,6 +104,10 @@ def load_stl(path, scale=1.0, offset=(0.0, 0.0, 0.0)):
             f"{where} is not an STL file ({size} bytes: too short for a binary "
             "STL and no ASCII 'solid' header)"
         )
+    count = int.from_bytes(head[80:84], "little") if len(head) == 84 else 0
+    if not is_ascii_header and size < 84 + 50 * count:  # numpy-stl would read the triangles that are there
+        raise InputError(f"{where} is truncated: its binary header announces {count:,} triangles "
+                         f"({84 + 50 * count:,} bytes) but the file has {size:,} bytes")
 
     from stl import mesh as stl_mesh
 

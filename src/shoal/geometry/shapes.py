@@ -368,7 +368,7 @@ def _read_height_file(path):
                                 skip_header=0, invalid_raise=True)
             pts = pts[np.all(np.isfinite(pts), axis=1)] if pts.ndim == 2 else pts
     except Exception as exc:  # any parse failure is bad input
-        raise InputError(f"bathymetry file {str(path)!r} could not be read: {exc}") from None
+        raise InputError(f"bathymetry file {str(path)!r} could not be read: {' '.join(str(exc).split())}") from None
     pts = np.asarray(pts, float)
     if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 4:
         raise InputError(f"bathymetry file {str(path)!r} must hold x, y, z columns for the nodes of a "

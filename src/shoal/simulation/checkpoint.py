@@ -115,6 +115,41 @@ def list_checkpoints(out_dir):
 
 
 # ------------------------------------------------------------------ capture
+CHECKPOINT_OVERHEAD = 13 * 1024
+"""Bytes of a checkpoint besides the arrays: the HDF5 structure (about
+12.4 KiB measured), the metadata JSON and the case file."""
+
+
+def checkpoint_bytes(n, dim, options, moving=False, probe_values=0):
+    """Bytes of one checkpoint of `n` particles, as `capture` writes it: the
+    Model's per-particle arrays (`particle_arrays`: positions float64 [dim];
+    velocity, acceleration [dim], density, drho/dt, max viscous term, p/rho^2
+    in the working precision; kind int8, id int32; XSPH [dim], SPS stress
+    (3 or 6) and no-slip wall velocity [dim] when those are on; the moving
+    particles' initial positions float64 [dim] and motion index int32 when
+    the case has moving bodies), the integrator's arrays (symplectic and
+    predictor-corrector: positions float64 [dim], velocity [dim], density;
+    Verlet: velocity [dim], density), `probe_values` float64 values of
+    probe records, plus `CHECKPOINT_OVERHEAD`. 3D, Verlet, float32: 85 bytes
+    a particle (86.8 measured on a 9,204-particle file, overhead included).
+    """
+    f = np.dtype(options.precision).itemsize
+    per = 8 * dim + f * dim * 2 + f * 4 + 1 + 4
+    if options.xsph > 0:
+        per += f * dim
+    if options.turbulence == "sps":
+        per += f * (3 if dim == 2 else 6)
+    if options.no_slip:
+        per += f * dim
+    if moving:
+        per += 8 * dim + 4
+    if options.integrator == "verlet":
+        per += f * dim + f
+    else:
+        per += 8 * dim + f * dim + f
+    return per * n + 8 * probe_values + CHECKPOINT_OVERHEAD
+
+
 def _is_array(a):
     return hasattr(a, "shape") and hasattr(a, "dtype") and len(getattr(a, "shape", ())) >= 1
 

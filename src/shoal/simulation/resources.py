@@ -50,13 +50,84 @@ def case_solver_bytes(case):
     return solver_bytes(len(p), case.dim, o, n_cells, moving=bool(np.any(p.kinds == 2)))
 
 
+NODE_LIMIT = 4e9
+"""Most lattice nodes particle generation may scan (it visits every node of
+the generation box: about 1-3 million a second, so this is most of an hour)."""
+
+SAMPLE_NODES = 50_000
+"""Nodes of the coarse lattice on which `check_generation_size` measures the
+fluid volume."""
+
+
+def check_generation_size(case, lo, hi):
+    """Refuse (`InputError`), before any particle is generated, a case whose
+    particles cannot fit in this machine's memory or whose generation box
+    holds more than `NODE_LIMIT` lattice nodes: a tiny dp on a big case
+    gives one line at once instead of hours of generation or an
+    out-of-memory crash.
+
+    Free when every node of the box [lo, hi] could be a particle and still
+    fit. Otherwise the fluid particles are estimated from the volume of the
+    fluid regions outside the solids, sampled on a coarse lattice of about
+    `SAMPLE_NODES` nodes (a lower bound: walls come on top), and checked as
+    the built-in cases check their counts
+    (`shoal.cases._checks.check_count`: about 600 bytes per particle,
+    within 80 % of the physical memory).
+    """
+    from ..cases._checks import BYTES_PER_PARTICLE, check_count, physical_memory
+    from ..geometry.generate import support_layers
+
+    dim, dp = case.dim, float(case.dp)
+    axes = (0, 2) if dim == 2 else (0, 1, 2)
+    ext = [max(float(hi[a] - lo[a]), 0.0) for a in axes]
+    nodes = math.prod(e / dp + 1.0 for e in ext)
+    if any(s.boundary == "repulsive" for s in case.solids):
+        nodes *= 1 + 2**dim  # a second pass at dp/2
+    mem = physical_memory()
+    if nodes <= NODE_LIMIT and (not mem or nodes * BYTES_PER_PARTICLE <= 0.8 * mem):
+        return
+    volume = math.prod(ext)
+    if math.isfinite(volume) and volume > 0:
+        step = max(dp, (volume / SAMPLE_NODES) ** (1.0 / dim))
+        coords = [float(lo[a]) + (np.arange(max(1, math.ceil(e / step))) + 0.5) * step for a, e in zip(axes, ext)]
+        grids = np.meshgrid(*coords, indexing="ij")
+        pts = np.zeros((grids[0].size, 3))
+        for a, g in zip(axes, grids):
+            pts[:, a] = g.ravel()
+        fluid = np.zeros(len(pts), bool)
+        for f in case.fluids:
+            fluid |= f.shape.contains(pts, dim, 0.0)
+        layers = support_layers(2.0 * case.smoothing_length / dp)
+        for s in case.solids:
+            if s.shape.type != "mesh":  # (a winding number per sample point: too slow to be worth it here)
+                fluid &= ~s.shape.contains(pts, dim, (s.layers or layers) * dp)
+        check_count(int(np.count_nonzero(fluid)) * (step / dp) ** dim, dim)
+    if nodes > NODE_LIMIT:
+        size = " x ".join(f"{e:.4g}" for e in ext)
+        raise InputError(f"generating the particles would scan {nodes:.3g} lattice nodes (a {size} m box at dp = "
+                         f"{dp:g} m; at most {NODE_LIMIT:.0e}): use a larger dp, or a smaller domain or thinner walls")
+
+
 def check_memory(case, available=None):
-    """Raise `InputError` if the solver arrays of `case` exceed the memory
-    available (`available` bytes, default `available_memory()`)."""
-    need = case_solver_bytes(case)
+    """Raise `InputError` if the solver arrays of `case` and its probes'
+    samples (`shoal.check.probe_bytes`) exceed the memory available
+    (`available` bytes, default `available_memory()`)."""
+    from ..check import probe_bytes
+
+    solver = case_solver_bytes(case)
+    probes = probe_bytes(case)
+    need = solver + probes
     have = available_memory() if available is None else available
     if have and need > have:
         n = case.n_particles
+        if probes > 0.01 * need:
+            k, spec = max(enumerate(case.probes), key=lambda ks: probe_bytes(case, [ks[1]]))
+            how = {"grid": "fewer grid nodes (counts) or a longer interval",
+                   "gauge": "a shorter z0 .. z1 (sampled every dp/2)"}.get(spec.type, "fewer points or a longer interval")
+            raise InputError(f"the run needs {need / 2**30:.3g} GiB ({solver / 2**30:.3g} GiB for {n:,} particles, "
+                             f"{probes / 2**30:.3g} GiB for the probes' sample points and records, most of it for "
+                             f"probes[{k}] ({spec.type} {spec.name!r})) but only {have / 2**30:.2f} GiB of memory is "
+                             f"available here: give that probe {how}")
         raise InputError(f"the run needs {need / 2**30:.2f} GiB for {n:,} particles but only {have / 2**30:.2f} GiB "
                          f"of memory is available here: use a larger dp (memory grows as dp^-{case.dim}), "
                          "or free memory")

@@ -1,0 +1,418 @@
+"""A corpus of bad inputs through the real command line (issue 7, item 4).
+
+Each entry is run through ``shoal.cli.main`` in this process and must give
+exit status 2 and exactly one line on stderr, ``shoal: error: ...``, naming
+what is wrong (the fragments listed) -- never a traceback. A few go
+through ``python -m shoal`` in a subprocess to prove the exit status and
+the absence of a traceback end to end, and a refused ``shoal run`` must
+leave a run directory that already holds a run exactly as it was.
+
+Entries cover: malformed TOML (syntax errors, binary, empty, non-UTF-8),
+wrong types, zero or negative sizes, geometry that leaves no fluid or puts
+it outside the domain, unknown or missing motions, missing and malformed
+files (case file, STL, bathymetry, time series), unwritable output
+directories, unknown options and keys at several levels, unknown cases,
+bad ``--param`` and flags, ``--resume`` without a checkpoint, cases too
+large for this machine's memory (``check`` and ``run``), probes outside the
+domain, periodic and symmetry set-ups that cannot work. Run with
+``pytest -s`` to see every message.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from shoal.cli import main
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+
+BASE = """\
+name = "tank"
+dim = 2
+dp = 0.05
+end_time = 0.01
+
+[fluid]
+depth = 0.3
+surface_level = 0.3
+
+[output]
+interval = 0.005
+
+[[solids]]
+name = "tank"
+shape = { type = "tank", lo = [0.0, 0.0, 0.0], hi = [0.6, 0.0, 0.5] }
+
+[[fluids]]
+shape = { type = "box", lo = [0.0, 0.0, 0.0], hi = [0.6, 0.0, 0.3] }
+"""
+
+BASE3D = (BASE.replace("dim = 2", "dim = 3").replace("hi = [0.6, 0.0, 0.5]", "hi = [0.6, 0.3, 0.5]")
+          .replace("hi = [0.6, 0.0, 0.3]", "hi = [0.6, 0.3, 0.3]"))
+
+# a bed and water over it, no side walls: for periodic domains and explicit domains
+BED = """\
+name = "bed"
+dim = 2
+dp = 0.05
+end_time = 0.01
+
+[fluid]
+depth = 0.3
+
+[[solids]]
+name = "bed"
+shape = { type = "box", lo = [0.0, 0.0, -0.2], hi = [1.0, 0.0, 0.0] }
+
+[[fluids]]
+shape = { type = "box", lo = [0.0, 0.0, 0.0], hi = [1.0, 0.0, 0.3] }
+"""
+
+
+def edit(*subs, append="", base=BASE):
+    """`base` with each (old, new) replaced once (old must be there), plus `append`."""
+    text = base
+    for old, new in subs:
+        assert old in text, old
+        text = text.replace(old, new, 1)
+    return text + append
+
+
+def solid(shape, motion=None, base=BASE):
+    extra = f'motion = "{motion}"\n' if motion else ""
+    return edit(append=f'\n[[solids]]\nname = "extra"\n{extra}shape = {shape}\n', base=base)
+
+
+def probe(table):
+    return edit(append=f"\n[[probes]]\n{table}\n")
+
+
+PISTON = '\n[[motions]]\ntype = "piston"\nname = "paddle"\nheight = 0.02\nperiod = 1.0\ndepth = 0.3\n'
+STL_BAD = "solid rock\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n"  # cut off mid-facet
+TS_DECREASING = "t,x\n0.0,0.0\n1.0,0.1\n0.5,0.2\n"
+
+RUN = ["--out", "{d}/out", "--no-plot", "--no-progress"]
+
+# (id, files {name: text or bytes} written into the test's directory, argv ({d}: that directory),
+#  fragments the error line must hold)
+CORPUS = [
+    # ------------------------------------------------------------ malformed TOML
+    ("toml-missing-value", {"case.toml": edit(("dp = 0.05", "dp = "))}, None, ["not valid TOML", "line 3"]),
+    ("toml-unclosed-string", {"case.toml": edit(('name = "tank"', 'name = "tank'))}, None, ["not valid TOML"]),
+    ("toml-unclosed-array", {"case.toml": edit(("hi = [0.6, 0.0, 0.3] }", "hi = [0.6, 0.0, 0.3 }"))}, None,
+     ["not valid TOML"]),
+    ("toml-duplicate-key", {"case.toml": edit(("dp = 0.05", "dp = 0.05\ndp = 0.04"))}, None, ["not valid TOML"]),
+    ("toml-table-twice", {"case.toml": edit(append="\n[fluid]\nrho0 = 1000.0\n")}, None, ["not valid TOML"]),
+    ("toml-bare-word", {"case.toml": edit(('name = "tank"', "name = tank"))}, None, ["not valid TOML"]),
+    ("binary-file", {"case.toml": bytes(range(256)) * 4}, None, ["not a text file", "UTF-8"]),
+    ("empty-file", {"case.toml": ""}, None, ["case.toml", "missing required key name", "more problems"]),
+    ("latin-1-file", {"case.toml": BASE.replace('"tank"', '"t\xe9nk"').encode("latin-1")}, None,
+     ["not a text file"]),
+    ("case-file-is-a-directory", {"dir.toml/x": ""}, ["check", "{d}/dir.toml"], ["is a directory"]),
+    # ------------------------------------------------------------ wrong types
+    ("string-for-number", {"case.toml": edit(("dp = 0.05", 'dp = "fine"'))}, None, ["dp = 'fine'", "must be a number"]),
+    ("list-for-table", {"case.toml": edit(("end_time = 0.01", "end_time = 0.01\noutput = [1, 2]"),
+                                          ("[output]\ninterval = 0.005\n", ""))}, None,
+     ["output = [1, 2]", "must be a table"]),
+    ("boolean-for-integer", {"case.toml": edit(('name = "tank"\nshape', 'name = "tank"\nlayers = true\nshape'))},
+     None, ["solids[0].layers", "must be an integer"]),
+    ("boolean-for-dim", {"case.toml": edit(("dim = 2", "dim = true"))}, None, ["dim = true", "2 or 3"]),
+    ("table-for-array", {"case.toml": edit(("[[fluids]]\nshape", "[fluids]\nshape"))}, None,
+     ["fluids", "must be an array"]),
+    ("string-for-vector", {"case.toml": edit(("depth = 0.3\n", 'depth = 0.3\ngravity = "down"\n'))}, None,
+     ["fluid.gravity = 'down'", "must be an array"]),
+    # ------------------------------------------------------------ zero or negative sizes
+    ("dp-zero", {"case.toml": edit(("dp = 0.05", "dp = 0"))}, None, ["dp = 0", "greater than 0"]),
+    ("dp-negative", {"case.toml": edit(("dp = 0.05", "dp = -0.05"))}, None, ["dp = -0.05", "greater than 0"]),
+    ("dp-nan", {"case.toml": edit(("dp = 0.05", "dp = nan"))}, None, ["dp = nan", "finite"]),
+    ("end-time-zero", {"case.toml": edit(("end_time = 0.01", "end_time = 0"))}, None, ["end_time = 0", "greater than 0"]),
+    ("output-interval-zero", {"case.toml": edit(("interval = 0.005", "interval = 0.0"))}, None,
+     ["output.interval = 0.0", "greater than 0"]),
+    ("box-hi-below-lo", {"case.toml": edit(("hi = [0.6, 0.0, 0.3]", "hi = [0.6, 0.0, -0.3]"))}, None,
+     ["fluids[0].shape", "hi.z = -0.3 is below lo.z"]),
+    ("cylinder-zero-radius", {"case.toml": solid('{ type = "cylinder", axis = "z", center = [0.3, 0.15], radius = 0.0 }',
+                                                 base=BASE3D)}, None, ["solids[1].shape.radius = 0.0", "greater than 0"]),
+    ("tank-without-interior", {"case.toml": edit(("hi = [0.6, 0.0, 0.5]", "hi = [0.0, 0.0, 0.5]"))}, None,
+     ["solids[0].shape", "hi.x = 0.0 must be above lo.x = 0.0"]),
+    ("cli-dp-negative", {}, ["run", "--dp", "-1"], ["--dp", "positive", "-1"]),
+    ("cli-end-time-zero", {}, ["check", "still-water-2d", "--end-time", "0"], ["--end-time", "positive"]),
+    # ------------------------------------------------------------ geometry
+    ("solid-covers-the-fluid", {"case.toml": solid('{ type = "box", lo = [-0.1, 0.0, -0.1], hi = [0.7, 0.0, 0.4] }')},
+     None, ["fluids[0] (box) holds no particle", "inside solids"]),
+    ("fluid-thinner-than-dp", {"case.toml": edit(("hi = [0.6, 0.0, 0.3]", "hi = [0.6, 0.0, 0.02]"))}, None,
+     ["fluids[0] (box) holds no particle", "thinner than dp = 0.05 m along z (0.02 m)"]),
+    ("fluid-outside-the-domain", {"case.toml": edit(("lo = [0.0, 0.0, 0.0], hi = [1.0, 0.0, 0.3]",
+                                                     "lo = [0.0, 0.0, 2.0], hi = [1.0, 0.0, 2.3]"),
+                                                    append="\n[domain]\nlo = [-0.1, 0.0, -0.3]\nhi = [1.1, 0.0, 1.0]\n",
+                                                    base=BED)},
+     None, ["fluids[0] (box) holds no particle", "lies outside the domain [-0.1, 1.1] x [-0.3, 1] m"]),
+    ("solid-outside-the-domain", {"case.toml": edit(append="\n[domain]\nlo = [0.0, 0.0, 0.0]\nhi = [0.3, 0.0, 0.2]\n")},
+     None, ["solids[0] (tank)", "outside the domain", "enlarge the domain"]),
+    ("domain-hi-below-lo", {"case.toml": edit(append="\n[domain]\nlo = [0.0, 0.0, 0.0]\nhi = [-1.0, 0.0, 1.0]\n")},
+     None, ["domain", "hi.x = -1.0 must be above lo.x"]),
+    ("no-gravity-no-u_max", {"case.toml": edit(("depth = 0.3\n", "depth = 0.3\ngravity = [0.0, 0.0, 0.0]\n"))}, None,
+     ["fluid.gravity = [0.0, 0.0, 0.0]", "speed of sound", "u_max"]),
+    ("shape-type-unknown", {"case.toml": edit(('type = "tank"', 'type = "bowl"'))}, None,
+     ["solids[0].shape.type = 'bowl'", "allowed: 'box', 'tank'"]),
+    # ------------------------------------------------------------ motions
+    ("motion-name-unknown", {"case.toml": solid('{ type = "box", lo = [0.0, 0.0, 0.0], hi = [0.05, 0.0, 0.4] }',
+                                                motion="wiggle").replace("\n[[solids]]", PISTON + "\n[[solids]]", 1)},
+     None, ["solids[1].motion = 'wiggle'", "names no motion", "motions: paddle"]),
+    ("solid-motion-missing", {"case.toml": solid('{ type = "box", lo = [0.0, 0.0, 0.0], hi = [0.05, 0.0, 0.4] }',
+                                                 motion="paddle")}, None,
+     ["solids[1].motion = 'paddle'", "names no motion", "none defined"]),
+    ("motion-type-unknown", {"case.toml": edit(append=PISTON.replace('"piston"', '"wobble"', 1))}, None,
+     ["motions[0].type = 'wobble'", "not a known type", "'piston'"]),
+    # ------------------------------------------------------------ missing and malformed files
+    ("case-file-missing", {}, ["check", "{d}/nope.toml"], ["nope.toml", "not found"]),
+    ("case-file-missing-run", {}, ["run", "{d}/nope.toml", *RUN], ["nope.toml", "not found"]),
+    ("stl-missing", {"case.toml": solid('{ type = "mesh", file = "rock.stl" }', base=BASE3D)}, None,
+     ["rock.stl", "not found"]),
+    ("stl-malformed", {"case.toml": solid('{ type = "mesh", file = "rock.stl" }', base=BASE3D), "rock.stl": STL_BAD},
+     None, ["rock.stl", "no triangles"]),
+    ("stl-binary-truncated", {"case.toml": solid('{ type = "mesh", file = "rock.stl" }', base=BASE3D),
+                              "rock.stl": bytes(80) + (1000).to_bytes(4, "little") + bytes(100)},
+     None, ["rock.stl", "is truncated", "1,000 triangles"]),
+    ("bathymetry-file-missing", {"case.toml": solid('{ type = "bathymetry", file = "bed.csv" }')}, None,
+     ["bathymetry file", "bed.csv", "not found"]),
+    ("bathymetry-file-malformed", {"case.toml": solid('{ type = "bathymetry", file = "bed.csv" }'),
+                                   "bed.csv": "x,y,z\n0,0,zero\n1,0\n"}, None, ["bathymetry file", "bed.csv"]),
+    ("time-series-file-missing", {"case.toml": solid('{ type = "box", lo = [0.0, 0.0, 0.0], hi = [0.05, 0.0, 0.4] }',
+                                                     motion="m").replace(
+        "\n[[solids]]", '\n[[motions]]\ntype = "time_series"\nname = "m"\nfile = "paddle.csv"\n\n[[solids]]', 1)},
+     None, ["motion 'm'", "paddle.csv", "not found"]),
+    ("time-series-times-decrease", {"case.toml": solid('{ type = "box", lo = [0.0, 0.0, 0.0], hi = [0.05, 0.0, 0.4] }',
+                                                       motion="m").replace(
+        "\n[[solids]]", '\n[[motions]]\ntype = "time_series"\nname = "m"\nfile = "paddle.csv"\n\n[[solids]]', 1),
+        "paddle.csv": TS_DECREASING}, None, ["motion 'm'", "must increase strictly"]),
+    ("time-series-file-malformed", {"case.toml": solid('{ type = "box", lo = [0.0, 0.0, 0.0], hi = [0.05, 0.0, 0.4] }',
+                                                       motion="m").replace(
+        "\n[[solids]]", '\n[[motions]]\ntype = "time_series"\nname = "m"\nfile = "paddle.csv"\n\n[[solids]]', 1),
+        "paddle.csv": "t,x\n0.0,0.0\n1.0\n2.0,0.1,0.2,0.3,0.4\n"}, None, ["motion 'm'", "paddle.csv"]),
+    # ------------------------------------------------------------ output directory
+    ("out-is-a-file", {"case.toml": BASE, "taken": "a file"},
+     ["run", "{d}/case.toml", "--out", "{d}/taken", "--no-plot", "--no-progress"], ["taken", "is a file"]),
+    # ------------------------------------------------------------ unknown options, keys, cases
+    ("cli-unknown-option", {}, ["run", "--frobnicate"], ["unrecognized arguments", "--frobnicate"]),
+    ("cli-unknown-command", {}, ["simulate"], ["invalid choice", "simulate"]),
+    ("unknown-top-level-key", {"case.toml": edit(("dp = 0.05", "dp = 0.05\nresolution = 3"))}, None,
+     ["unknown key 'resolution'", "top level", "allowed keys:", "dp"]),
+    ("unknown-key-in-options", {"case.toml": edit(append="\n[options]\nkernal = \"cubic\"\n")}, None,
+     ["'kernal'", "options", "allowed keys:", "kernel"]),
+    ("unknown-key-in-shape", {"case.toml": edit(('type = "tank",', 'type = "tank", height = 1.0,'))}, None,
+     ["unknown key 'height'", "solids[0].shape", "allowed keys: hi, lo, open, type"]),
+    ("unknown-key-in-probe", {"case.toml": probe('type = "gauge"\nname = "g"\nx = 0.3\nz0 = 0.0\nz1 = 0.5\n'
+                                                 'interval = 0.005\ncolour = "red"')}, None,
+     ["unknown key 'colour'", "probes[0]", "allowed keys:", "z1"]),
+    ("unknown-case", {}, ["check", "dam-brake-2d"], ["unknown case 'dam-brake-2d'", "dam-break-2d"]),
+    ("param-unknown-key", {}, ["check", "still-water-2d", "--param", "depht=0.3"],
+     ["has no parameter 'depht'", "depth"]),
+    ("param-bad-value", {}, ["check", "still-water-2d", "--param", "depth=deep"], ["depth = 'deep'", "positive"]),
+    ("param-wrong-kind", {}, ["check", "still-water-2d", "--param", "layers=2.5"],
+     ["--param layers=2.5", "layers = 2.5", "must be an integer"]),
+    ("param-not-key-value", {}, ["check", "still-water-2d", "--param", "depth"], ["--param 'depth'", "KEY=VALUE"]),
+    ("param-with-case-file", {"case.toml": BASE}, ["check", "{d}/case.toml", "--param", "depth=0.2"],
+     ["--param sets parameters of built-in cases"]),
+    ("precision-float16", {}, ["run", "--precision", "float16"], ["float16", "float32", "float64"]),
+    ("backend-tpu", {}, ["run", "still-water-2d", "--backend", "tpu"], ["unknown backend 'tpu'", "'cpu', 'cuda'"]),
+    ("resume-empty-dir", {"empty/.keep": ""}, ["run", "--resume", "{d}/empty"], ["no run to resume"]),
+    ("resume-no-checkpoint", {"old/case.toml": BASE, "old/resolved.json": "{}"}, ["run", "--resume", "{d}/old"],
+     ["holds no checkpoint", "ckpt_NNNNNN.h5"]),
+    ("resume-missing-dir", {}, ["run", "--resume", "{d}/nowhere"], ["--resume", "no such run directory"]),
+    ("resume-with-a-case", {"old/case.toml": BASE}, ["run", "still-water-2d", "--resume", "{d}/old"],
+     ["--resume", "cannot be given with it"]),
+    # ------------------------------------------------------------ more than this machine's memory
+    ("tiny-dp-case-file-check", {"case.toml": edit(("dp = 0.05", "dp = 1e-6"))}, None,
+     ["particles would be generated", "GiB", "use a larger dp"]),
+    ("tiny-dp-case-file-run", {"case.toml": edit(("dp = 0.05", "dp = 1e-6"))}, ["run", "{d}/case.toml", *RUN],
+     ["particles would be generated", "use a larger dp"]),
+    ("tiny-dp-builtin-check", {}, ["check", "rip-current", "--dp", "0.001"], ["particles would be generated", "GiB"]),
+    ("tiny-dp-builtin-run", {}, ["run", "rip-current", "--dp", "0.001", *RUN], ["particles would be generated"]),
+    ("huge-domain-3d", {"case.toml": edit(append="\n[domain]\nlo = [-1e5, -1e5, -1e5]\nhi = [1e5, 1e5, 1e5]\n",
+                                          base=BASE3D)}, None, ["lattice nodes", "smaller domain"]),
+    ("huge-probe-grid", {"case.toml": probe('type = "grid"\nname = "g"\nlo = [0.1, 0.0, 0.1]\nhi = [0.5, 0.0, 0.3]\n'
+                                            'counts = [100000, 1, 100000]\ninterval = 0.001')}, None,
+     ["GiB for the probes", "probes[0] (grid 'g')", "fewer grid nodes"]),
+    ("huge-gauge-line", {"case.toml": probe('type = "gauge"\nname = "g"\nx = 0.3\nz0 = 0.0\nz1 = 1e9\n'
+                                            'interval = 0.005')}, ["run", "{d}/case.toml", *RUN],
+     ["GiB for the probes", "probes[0] (gauge 'g')", "a shorter z0 .. z1"]),
+    # ------------------------------------------------------------ probes
+    ("probe-point-outside", {"case.toml": probe('type = "points"\nname = "p"\npoints = [[5.0, 0.0, 0.1]]\n'
+                                                'interval = 0.005')}, None,
+     ["probes[0] (points 'p')", "points[0] = [5.0, 0.0, 0.1]", "outside the domain"]),
+    ("gauge-outside", {"case.toml": probe('type = "gauge"\nname = "g"\nx = -3.0\nz0 = 0.0\nz1 = 0.5\n'
+                                          'interval = 0.005')}, ["run", "{d}/case.toml", *RUN],
+     ["probes[0] (gauge 'g')", "x = -3", "outside the domain"]),
+    ("tracker-id-not-a-particle", {"case.toml": probe('type = "tracker"\nname = "t"\nids = [5, 100000]\n'
+                                                      'interval = 0.005')}, ["run", "{d}/case.toml", *RUN],
+     ["probes[0] (tracker 't')", "ids [100000] are no particles"]),
+    ("probe-names-repeated", {"case.toml": probe('type = "maxz"\nname = "m"\nx = 0.3\nradius = 0.1\ninterval = 0.01')
+                              + '\n[[probes]]\ntype = "maxz"\nname = "m"\nx = 0.2\nradius = 0.1\ninterval = 0.01\n'},
+     None, ["probes[1]", "named 'm'", "same file"]),
+    # ------------------------------------------------------------ periodic and symmetry set-ups
+    ("periodic-length-not-whole", {"case.toml": edit(append='\n[domain]\nlo = [0.0, 0.0, -0.3]\nhi = [1.02, 0.0, 1.0]'
+                                                            '\nperiodic = ["x"]\n', base=BED)}, None,
+     ["domain.periodic = ['x']", "1.02 m long in x", "not a whole number", "make it 1 m"]),
+    ("periodic-y-in-2d", {"case.toml": edit(append='\n[domain]\nlo = [0.0, 0.0, -0.3]\nhi = [1.0, 0.0, 1.0]'
+                                                   '\nperiodic = ["y"]\n', base=BED)}, None,
+     ["periodic = ['y']", "not allowed in 2D"]),
+    ("symmetry-plane-in-2d", {"case.toml": edit(append="\n[[symmetry_planes]]\npoint = [0.0, 0.1, 0.0]\n"
+                                                       "normal = [0.0, -1.0, 0.0]\n")}, None,
+     ["symmetry_planes[0]", "3D case", "2D case"]),
+    ("symmetry-plane-not-y", {"case.toml": edit(append="\n[[symmetry_planes]]\npoint = [0.3, 0.0, 0.0]\n"
+                                                       "normal = [1.0, 0.0, 0.0]\n", base=BASE3D)}, None,
+     ["symmetry_planes[0].normal = [1.0, 0.0, 0.0]", "y = const"]),
+    ("wall-plane-without-depth", {"case.toml": edit(("depth = 0.3\n", "u_max = 1.0\n"),
+                                                    append="\n[[planes]]\npoint = [0.0, 0.0, 0.0]\n"
+                                                           "normal = [0.0, 0.0, 1.0]\n")}, None,
+     ["wall planes", "need gravity and a fluid.depth"]),
+]
+
+
+def test_corpus_is_large_and_distinct():
+    assert len(CORPUS) >= 40
+    assert len({c[0] for c in CORPUS}) == len(CORPUS)
+
+
+def _write(d, files):
+    for name, content in files.items():
+        p = d / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(content, bytes):
+            p.write_bytes(content)
+        else:
+            p.write_text(content, encoding="utf-8")
+
+
+def _cli(argv):
+    """The CLI in this process: its exit status, returned or raised (argparse raises SystemExit)."""
+    try:
+        return main(argv)
+    except SystemExit as exc:
+        return exc.code
+
+
+def _one_error_line(err):
+    assert "Traceback" not in err, err
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("shoal: error: "), err
+    return lines[0]
+
+
+@pytest.mark.parametrize("files,argv,fragments", [pytest.param(*c[1:], id=c[0]) for c in CORPUS])
+def test_bad_input_is_one_line_and_exit_2(files, argv, fragments, tmp_path, monkeypatch, capsys, request):
+    monkeypatch.chdir(tmp_path)  # a refused run must not write runs/ anywhere either
+    _write(tmp_path, files)
+    argv = [a.replace("{d}", str(tmp_path)) for a in (argv or ["check", "{d}/case.toml"])]
+    status = _cli(argv)
+    out, err = capsys.readouterr()
+    assert status == 2, (status, out, err)
+    line = _one_error_line(err)
+    print(f"\n[{request.node.callspec.id}] {line}")
+    for part in fragments:
+        assert part in line, (part, line)
+    assert not (tmp_path / "out").exists() and not (tmp_path / "runs").exists()  # nothing was written
+
+
+def test_unwritable_output_directory(tmp_path, capsys):
+    """A run whose output directory cannot be created or written: one line, exit 2. As root, permissions
+    do not stop writes, so the directory is put under a regular file (which stops root too)."""
+    (tmp_path / "case.toml").write_text(BASE)
+    if os.geteuid() == 0:
+        (tmp_path / "plain-file").write_text("not a directory")
+        out_dir = tmp_path / "plain-file" / "out"
+    else:
+        locked = tmp_path / "locked"
+        locked.mkdir()
+        locked.chmod(0o500)
+        out_dir = locked / "out"
+    try:
+        status = _cli(["run", str(tmp_path / "case.toml"), "--out", str(out_dir), "--no-plot", "--no-progress"])
+    finally:
+        if os.geteuid() != 0:
+            (tmp_path / "locked").chmod(0o700)
+    line = _one_error_line(capsys.readouterr().err)
+    print("\n" + line)
+    assert status == 2
+    assert "cannot write to the output directory" in line and str(out_dir) in line
+    assert not out_dir.exists()
+
+
+# ----------------------------------------------------------------------------- nothing already written is lost
+
+def _snapshot(d):
+    """{relative path: (size, mtime_ns, sha256)} of every file under `d`."""
+    return {str(p.relative_to(d)): (p.stat().st_size, p.stat().st_mtime_ns, hashlib.sha256(p.read_bytes()).hexdigest())
+            for p in sorted(d.rglob("*")) if p.is_file()}
+
+
+@pytest.fixture
+def previous_run(tmp_path):
+    """A run directory holding a previous run's files (their content does not matter here)."""
+    d = tmp_path / "runs" / "tank"
+    d.mkdir(parents=True)
+    for name, text in [("resolved.json", '{"name": "tank"}\n'), ("case.toml", BASE), ("run.log", "done\n"),
+                       ("tank.pvd", "<VTKFile/>\n"), ("tank_0000.vtu", "vtu 0\n"), ("tank_0001.vtu", "vtu 1\n"),
+                       ("gauge_g.csv", "time,level\n0,0.3\n"), ("escaped.csv", "id,kind,time,x,y,z,u,v,w\n")]:
+        (d / name).write_text(text)
+    (d / "ckpt_000010.h5").write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(64))
+    old = 1_600_000_000_000_000_000  # mtimes in the past, so a rewrite would show
+    for p in d.iterdir():
+        os.utime(p, ns=(old, old))
+    return d
+
+
+@pytest.mark.parametrize("what,text,extra", [
+    ("already-a-run", BASE, []),
+    ("bad-case-with-overwrite", edit(("dp = 0.05", "dp = -1")), ["--overwrite"]),
+    ("probe-outside-with-overwrite", probe('type = "points"\nname = "p"\npoints = [[9.0, 0.0, 0.1]]\ninterval = 0.005'),
+     ["--overwrite"]),
+    ("too-big-with-overwrite", edit(("dp = 0.05", "dp = 1e-6")), ["--overwrite"]),
+])
+def test_refused_run_leaves_the_previous_run_untouched(what, text, extra, previous_run, tmp_path, capsys):
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    before = _snapshot(previous_run)
+    status = _cli(["run", str(case), "--out", str(previous_run), "--no-plot", "--no-progress", *extra])
+    line = _one_error_line(capsys.readouterr().err)
+    print(f"\n[{what}] {line}")
+    assert status == 2
+    assert _snapshot(previous_run) == before  # same files, same bytes, same mtimes
+    if what == "already-a-run":
+        assert "already holds a run" in line and "--overwrite" in line
+
+
+# ----------------------------------------------------------------------------- end to end, in a subprocess
+
+def _shoal(args, cwd):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(SRC) + os.pathsep + env.get("PYTHONPATH", "")
+    return subprocess.run([sys.executable, "-m", "shoal", *args], capture_output=True, text=True, env=env, cwd=cwd,
+                          timeout=120)
+
+
+@pytest.mark.parametrize("files,args,fragment", [
+    pytest.param({"case.toml": bytes(range(256))}, ["check", "case.toml"], "not a text file", id="binary-file"),
+    pytest.param({"case.toml": edit(("dp = 0.05", "dp = "))}, ["run", "case.toml", "--no-plot"], "not valid TOML",
+                 id="malformed-toml-run"),
+    pytest.param({"case.toml": edit(("dp = 0.05", "dp = 1e-6"))}, ["run", "case.toml", "--no-plot"],
+                 "use a larger dp", id="too-big-run"),
+    pytest.param({}, ["run", "--resume", "nowhere"], "no such run directory", id="resume-nowhere"),
+    pytest.param({}, ["check", "still-water-2d", "--param", "layers=2.5"], "must be an integer",
+                 id="param-wrong-kind"),
+])
+def test_subprocess_exit_2_without_traceback(files, args, fragment, tmp_path):
+    _write(tmp_path, files)
+    proc = _shoal(args, tmp_path)
+    assert proc.returncode == 2, proc.stderr
+    assert "Traceback" not in proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("shoal: error: ") and fragment in lines[0], proc.stderr
+    assert not (tmp_path / "runs").exists()  # nothing was written
