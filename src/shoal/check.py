@@ -91,15 +91,15 @@ def probe_record_values(case, spec):
 def probe_bytes(case, specs=None):
     """Bytes the probes (`specs`, default all the case's) hold in memory by
     the end of the run: their sample points and sampling buffers, and the
-    records they keep (a test-point grid keeps every sample for its NetCDF
-    file; the CSV probes keep their rows as Python floats, about 32 bytes a
-    value)."""
+    records they keep (a test-point grid keeps every sample, float64, for
+    its NetCDF file; the CSV probes keep their rows as Python floats, about
+    32 bytes a value)."""
     f = np.dtype(case.options.precision).itemsize
     total = 0
     for spec in case.probes if specs is None else specs:
         values, points = probe_record_values(case, spec)
         n = probe_samples(case, spec)
-        per_value = f if spec.type == "grid" else 32
+        per_value = 8 if spec.type == "grid" else 32  # float64 samples; Python floats in lists of rows
         total += values * n * per_value + points * (24 + (3 + case.dim) * f)
     return total
 
@@ -209,12 +209,15 @@ def check_case(case):
                  f"{snaps * n * VTU_BYTES_PER_PARTICLE / 2**20:.3g} MiB")
     moving = bool(np.any(p.kinds == 2))
     records = sum(probe_record_values(case, s)[0] * probe_samples(case, s) for s in case.probes if s.type != "tracker")
-    ck = checkpoint_bytes(n, dim, o, moving)
-    ck_end = checkpoint_bytes(n, dim, o, moving, records)
+    from .casefile import dumps_case
+
+    toml = len(dumps_case(case, file_name="case.toml").encode("utf-8"))  # each checkpoint holds the case file
+    ck = checkpoint_bytes(n, dim, o, moving, case_bytes=toml)
+    ck_end = checkpoint_bytes(n, dim, o, moving, records, case_bytes=toml)
     cfg = case.checkpoint
     when = ([f"every {cfg.interval:g} s"] if cfg.interval > 0 else []) + \
         ([f"every {cfg.wall_interval:g} s of wall-clock time"] if cfg.wall_interval > 0 else []) + ["at the end"]
-    lines.append(f"  checkpoints: {ck / 2**20:.3g} MiB each ({(ck - CHECKPOINT_OVERHEAD) / n:.0f} B/particle"
+    lines.append(f"  checkpoints: {ck / 2**20:.3g} MiB each ({(ck - CHECKPOINT_OVERHEAD - toml) / n:.0f} B/particle"
                  + (f"; {ck_end / 2**20:.3g} MiB by the end with the probes' records" if ck_end > 1.01 * ck else "")
                  + f"), {', '.join(when)}; the newest {cfg.keep} kept: up to {cfg.keep * ck_end / 2**20:.3g} MiB")
     if case.motions:
