@@ -8,6 +8,7 @@
     shoal new NAME [-o FILE.toml]    write a commented case file of a built-in case to start from
     shoal plot-case CASE | FILE.toml [-o FILE.png]
     shoal post RUN_DIR [--gauges] [--mean-flow] [--tracks] [--plane AXIS=VALUE] [--out DIR]
+    shoal validate [CASE ...] [--quick | --full] [--backend cpu|cuda] [--out DIR]
     shoal cases
     shoal info
 
@@ -92,6 +93,18 @@ def build_parser():
                     help="averaging period [s] (default: the case's piston period, else the whole record)")
     po.add_argument("--periods", type=int, default=None, help="average over the last N periods (default: all)")
     po.add_argument("--start", type=float, default=None, help="ignore the record before this time [s]")
+    va = sub.add_parser("validate", help="run the validation cases against reference data; write a report "
+                                         "(REPORT.md, REPORT.html, PNGs)")
+    va.add_argument("cases", nargs="*", metavar="CASE",
+                    help="validation cases to run (default: all; `shoal validate --list` names them)")
+    mode = va.add_mutually_exclusive_group()
+    mode.add_argument("--quick", action="store_true", help="the quick resolutions (default; ~15 min on 2 cores)")
+    mode.add_argument("--full", action="store_true", help="the finer resolutions (hours on 2 cores; GPU recommended)")
+    va.add_argument("--backend", default="cpu", help="compute backend: cpu (default) or cuda")
+    va.add_argument("--out", default="runs/validate",
+                    help="folder for REPORT.md, REPORT.html, results.json and figures/ (default: runs/validate; "
+                         "--out validation regenerates the committed report)")
+    va.add_argument("--list", action="store_true", help="list the validation cases and exit")
     sub.add_parser("cases", help="list the built-in cases")
     sub.add_parser("info", help="show the backends available here")
     return p
@@ -289,6 +302,25 @@ def cmd_post(args):
     return 0
 
 
+def cmd_validate(args):
+    from .backends import check_backend
+    from .validation import VALIDATION_CASES, get_cases, run_validation
+
+    if args.list:
+        for name, case in VALIDATION_CASES.items():
+            print(f"{name:24s} {case.title}")
+        return 0
+    cases = get_cases(args.cases)  # an unknown name: InputError (one line, exit 2)
+    check_backend(args.backend)
+    command = "shoal validate " + " ".join([*args.cases, "--full" if args.full else "--quick",
+                                            *(["--backend", args.backend] if args.backend != "cpu" else [])])
+    results = run_validation(cases, quick=not args.full, backend=args.backend, out=args.out, command=command)
+    failed = [r.case for r in results if r.verdict == "FAIL"]
+    print(f"shoal: validation report in {Path(args.out) / 'REPORT.md'} (and REPORT.html); "
+          + ", ".join(f"{r.case} {r.verdict}" for r in results))
+    return 1 if failed else 0
+
+
 def cmd_cases(args):
     from .cases import CASES
 
@@ -336,7 +368,7 @@ def main(argv=None):
         return 0
     try:
         return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info, "check": cmd_check, "new": cmd_new,
-                "plot-case": cmd_plot_case, "post": cmd_post}[args.command](args)
+                "plot-case": cmd_plot_case, "post": cmd_post, "validate": cmd_validate}[args.command](args)
     except InputError as err:
         sys.stderr.write(f"shoal: error: {err}\n")
         return 2

@@ -1,0 +1,82 @@
+"""The rip-current basin: reads the long run's ``validation/rip-current/results.json``.
+
+The run itself (hours on 2 cores) and its analysis are `validation/rip-current/run.py` and
+`analyse.py`; ``shoal validate`` does not start it. Without ``results.json`` the entry says
+"not run".
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+from .core import Metric, ValidationCase, find_validation_dir
+
+
+class RipCurrent(ValidationCase):
+    """Set-up over the bar vs the channel, the offshore current in the channel, two circulation cells."""
+
+    name = "rip-current"
+    title = "Rip-current basin (Drønen et al. 2002 set-up)"
+    cost = 0.0
+    setup = ("The built-in `rip-current` basin (bar with a rip channel, piston waves H = 0.19 m, T = 1.5 s) "
+             "at the coarse CPU resolution of `validation/rip-current/run.py`; analysed by "
+             "`validation/rip-current/analyse.py` over the last whole wave periods (see that folder's "
+             "README). `shoal validate` reads the analysis' `results.json`; it does not start the run.")
+    reference = ("The rip-current paper and Drønen et al. (2002), qualitatively: the mean water level over the "
+                 "bar stands above that in the channel, the mean current in the channel flows offshore, and "
+                 "the mean flow forms two counter-rotating circulation cells. No public numeric laboratory "
+                 "data were found (`shared/validation-data/README.md`, section 6).")
+    tolerance_text = ("each of the three qualitative features must hold (the checks of `analyse.py`); no "
+                      "numeric tolerance without numeric data.")
+
+    def run(self, quick, backend, out):
+        res = self.new_result(quick, backend, out)
+        path = find_validation_dir() / "rip-current" / "results.json"
+        if not path.is_file():
+            res.status = "not run"
+            res.reason = (f"no {path.name} in {path.parent} (run `validation/rip-current/run.py`, then "
+                          "`analyse.py`: a run of hours on 2 cores)")
+            return res
+        data = json.loads(path.read_text())
+        res.data = {"results": data, "folder": path.parent}
+        run = data.get("run", {}) if isinstance(data.get("run"), dict) else {}
+        res.resolution = f"dp = {run['dp']} m" if "dp" in run else "see validation/rip-current/README.md"
+        res.particles = f"{run['particles']:,}" if isinstance(run.get("particles"), int) else str(
+            run.get("particles", "see README"))
+        secs = run.get("wall_seconds") or run.get("seconds")
+        res.run_seconds = float(secs) if isinstance(secs, (int, float)) else math.nan
+        res.notes.append(f"read from `{path}` (the run is not repeated by `shoal validate`).")
+        return res
+
+    def compare(self, result):
+        r = result.data["results"]
+        checks = r.get("checks", {})
+        labels = {"setup_bar_above_channel_at_crest_grid": "set-up over the bar above the channel (test points)",
+                  "setup_bar_above_channel_at_crest_gauges": "set-up over the bar above the channel (gauges)",
+                  "channel_current_offshore": "mean current in the channel offshore",
+                  "two_counter_rotating_cells": "two counter-rotating circulation cells"}
+        sg = r.get("setup_grid_mm", {})
+        cc = r.get("channel_current", {})
+        values = {"setup_bar_above_channel_at_crest_grid": (sg.get("crest_bar_minus_channel"), "mm"),
+                  "setup_bar_above_channel_at_crest_gauges": (
+                      r.get("setup_gauges_mm", {}).get("crest_bar_minus_channel"), "mm"),
+                  "channel_current_offshore": (cc.get("U_mean_m_s"), "m/s")}
+        result.metrics = []
+        for key, label in labels.items():
+            if key not in checks:
+                continue
+            v, unit = values.get(key, (None, ""))
+            result.metrics.append(Metric(label, float(v) if isinstance(v, (int, float)) else math.nan, None,
+                                         unit=unit or "-", passed=bool(checks[key])))
+        figs = []
+        folder = result.data["folder"]
+        for name in (r.get("pngs") or {}):
+            p = folder / name
+            if p.is_file():
+                figs.append(p)
+        if not result.metrics:
+            result.reason = "results.json holds no checks"
+            return figs, False
+        return figs, all(m.passed for m in result.metrics)
+
