@@ -8,8 +8,9 @@ with a one-line message; nothing else. A valid mutant is then taken
 through what ``shoal check`` does (the particles, the memory and
 checkpoint estimates, the probe and motion checks), but only where its
 lattice is small (a mutant with a tiny dp is only validated: generating
-millions of particles here would prove nothing more), and written back as
-a case file that loads to the same case.
+millions of particles here would prove nothing more: it only meets the
+guard that refuses a case too big for the memory before generating it),
+and written back as a case file that loads to the same case.
 
 Derandomized (the same examples on every run, so CI is stable);
 ``max_examples`` 200, no deadline (a first particle generation imports
@@ -114,6 +115,10 @@ def _exercise(case):
     if _nodes(case) <= MAX_NODES:
         lines = check_case(case)
         assert any("particles:" in line for line in lines)
+    else:  # only the guard that refuses, before generating, what cannot fit (it may pass: the case is valid)
+        from shoal.simulation.resources import check_generation_size
+
+        check_generation_size(case, *case._generation_box())
 
 
 @settings(max_examples=200, deadline=None, derandomize=True, database=None,

@@ -86,10 +86,22 @@ def check_generation_size(case, lo, hi):
     mem = physical_memory()
     if nodes <= NODE_LIMIT and (not mem or nodes * BYTES_PER_PARTICLE <= 0.8 * mem):
         return
-    volume = math.prod(ext)
-    if math.isfinite(volume) and volume > 0:
-        step = max(dp, (volume / SAMPLE_NODES) ** (1.0 / dim))
-        coords = [float(lo[a]) + (np.arange(max(1, math.ceil(e / step))) + 0.5) * step for a, e in zip(axes, ext)]
+    if all(math.isfinite(e) for e in ext):
+        # about SAMPLE_NODES sample nodes, as evenly spaced as the box allows (an axis shorter than the
+        # spacing gets one node, and the others share the rest), never closer than dp
+        counts = [1] * dim
+        free = [k for k in range(dim) if ext[k] > 0]
+        while free:
+            log_step = (sum(math.log(ext[k]) for k in free) - math.log(SAMPLE_NODES)) / len(free)
+            short = [k for k in free if math.log(ext[k]) < log_step]
+            if not short:
+                break
+            for k in short:
+                counts[k] = 1
+                free.remove(k)
+        for k in free:
+            counts[k] = max(1, min(round(ext[k] / math.exp(log_step)), math.ceil(ext[k] / dp)))
+        coords = [float(lo[a]) + (np.arange(c) + 0.5) * (e / c) for a, e, c in zip(axes, ext, counts)]
         grids = np.meshgrid(*coords, indexing="ij")
         pts = np.zeros((grids[0].size, 3))
         for a, g in zip(axes, grids):
@@ -101,7 +113,7 @@ def check_generation_size(case, lo, hi):
         for s in case.solids:
             if s.shape.type != "mesh":  # (a winding number per sample point: too slow to be worth it here)
                 fluid &= ~s.shape.contains(pts, dim, (s.layers or layers) * dp)
-        check_count(int(np.count_nonzero(fluid)) * (step / dp) ** dim, dim)
+        check_count(int(np.count_nonzero(fluid)) * math.prod(max(1.0, e / dp) / c for e, c in zip(ext, counts)), dim)
     if nodes > NODE_LIMIT:
         size = " x ".join(f"{e:.4g}" for e in ext)
         raise InputError(f"generating the particles would scan {nodes:.3g} lattice nodes (a {size} m box at dp = "
