@@ -96,7 +96,8 @@ class ResolutionStudy(ValidationCase):
         ax1.set_xlabel("dp / a")
         ax1.set_ylabel("%")
         ax1.set_title("2D dam-break front, 0.8 <= T <= 3", fontsize=9)
-        ax1.legend(fontsize=7)
+        ax1.set_ylim(0, 1.45 * max(100 * max(errs), 100 * max(diffs)))  # room for the legend above the points
+        ax1.legend(fontsize=7, loc="upper center")
         ax2.plot([dp / 0.1 for dp in dps], [100 * e for e in cerr], "o-", color="tab:green",
                  label="celerity error")
         ax2.plot([dp / 0.1 for dp in dps], [100 * (bm[dp]["d1"] - bm[dp]["d1_ref"]) / bm[dp]["d1_ref"] for dp in dps],
@@ -108,6 +109,6 @@ class ResolutionStudy(ValidationCase):
         ax2.set_xlabel("dp / d0")
         ax2.set_ylabel("error vs Belanger [%]")
         ax2.set_title("undular bore U = 0.3 m/s (dashed: 3 %)", fontsize=9)
-        ax2.legend(fontsize=7)
+        ax2.legend(fontsize=7, loc="lower right")
         path = save_png(fig, result.out / "resolution-study.png")
         return [path], all(m.passed for m in result.metrics if m.passed is not None)
