@@ -9,6 +9,7 @@
     shoal plot-case CASE | FILE.toml [-o FILE.png]
     shoal post RUN_DIR [--gauges] [--mean-flow] [--tracks] [--plane AXIS=VALUE] [--out DIR]
     shoal validate [CASE ...] [--quick | --full] [--backend cpu|cuda] [--out DIR]
+    shoal validate --report-only [CASE ...] --from DIR [--from DIR ...] --out DIR   merge saved results
     shoal cases
     shoal info
 
@@ -105,6 +106,13 @@ def build_parser():
                     help="folder for REPORT.md, REPORT.html, results.json and figures/ (default: runs/validate; "
                          "--out validation regenerates the committed report)")
     va.add_argument("--list", action="store_true", help="list the validation cases and exit")
+    va.add_argument("--report-only", action="store_true",
+                    help="run nothing: rebuild the report in --out from saved results (its own results.json, then "
+                         "each --from folder's, an entry replacing the one of the same case; CASE names restrict "
+                         "what is taken from --from)")
+    va.add_argument("--from", dest="sources", action="append", default=[], metavar="DIR",
+                    help="with --report-only: a folder written by shoal validate --out (results.json, figures/); "
+                         "repeatable")
     sub.add_parser("cases", help="list the built-in cases")
     sub.add_parser("info", help="show the backends available here")
     return p
@@ -311,6 +319,19 @@ def cmd_validate(args):
             print(f"{name:24s} {case.title}")
         return 0
     cases = get_cases(args.cases)  # an unknown name: InputError (one line, exit 2)
+    if args.sources and not args.report_only:
+        raise InputError("--from goes with --report-only (a report merged from saved results)")
+    if args.report_only:
+        from .validation.report import merge_reports
+
+        if args.full:
+            raise InputError("--report-only runs nothing: --full does not apply (each saved entry keeps its mode)")
+        command = "shoal validate --report-only " + " ".join(
+            [*args.cases, *(f"--from {s}" for s in args.sources), f"--out {args.out}"])
+        results = merge_reports(args.sources, args.out, cases=args.cases or None, command=command)
+        print(f"shoal: validation report in {Path(args.out) / 'REPORT.md'} (and REPORT.html), merged from saved "
+              "results; " + ", ".join(f"{r.case} {r.verdict}" for r in results))
+        return 0
     check_backend(args.backend)
     command = "shoal validate " + " ".join([*args.cases, "--full" if args.full else "--quick",
                                             *(["--backend", args.backend] if args.backend != "cpu" else [])])

@@ -41,6 +41,9 @@ class Metric:
         Set from `value` and `tolerance` unless given (None: not judged).
     note : str
         A short remark printed with the line (the reference value, a reason).
+    lower : float or None
+        With `lower`, the metric is a band: it passes when lower <= value <= tolerance (signed), e.g.
+        an increase that must lie between 2 and 15 %.
     """
 
     name: str
@@ -49,10 +52,14 @@ class Metric:
     unit: str = "%"
     passed: bool | None = None
     note: str = ""
+    lower: float | None = None
 
     def __post_init__(self):
         if self.passed is None and self.tolerance is not None:
-            self.passed = bool(math.isfinite(self.value) and abs(self.value) <= self.tolerance)
+            if self.lower is not None:
+                self.passed = bool(math.isfinite(self.value) and self.lower <= self.value <= self.tolerance)
+            else:
+                self.passed = bool(math.isfinite(self.value) and abs(self.value) <= self.tolerance)
 
     def fmt(self, v, signed=False):
         """`v` in the metric's unit, for the report."""
@@ -68,6 +75,8 @@ class Metric:
 
     @property
     def tolerance_text(self):
+        if self.tolerance is not None and self.lower is not None:
+            return f"in [{self.fmt(self.lower)}, {self.fmt(self.tolerance)}]"
         return "-" if self.tolerance is None else "<= " + self.fmt(self.tolerance)
 
     @property

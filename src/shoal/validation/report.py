@@ -13,6 +13,7 @@ import os
 import platform
 from pathlib import Path
 
+from ..errors import InputError
 from .core import find_validation_dir
 
 CSS = ("body{font-family:sans-serif;max-width:60em;margin:2em auto;padding:0 1em;line-height:1.4}"
@@ -67,7 +68,7 @@ def render_markdown(results, out, quick, backend, seconds, command=None):
     from .. import __version__
 
     out = Path(out)
-    mode = "quick" if quick else "full"
+    mode = {True: "quick", False: "full", None: "quick and full"}[None if quick is None else bool(quick)]
     counts = {}
     for r in results:
         counts[r.verdict] = counts.get(r.verdict, 0) + 1
@@ -87,7 +88,10 @@ def render_markdown(results, out, quick, backend, seconds, command=None):
         "|---|---|---|---|---|---|",
     ]
     for r in results:
-        lines.append(f"| [{r.case}](#{r.case}) | {_cell(r.resolution or '-')} | {_cell(r.particles or '-')} | "
+        res_text = r.resolution or "-"
+        if quick is None and r.status in ("run", "failed"):  # a merged report: each case's own mode
+            res_text = f"{'quick' if r.quick else 'full'}: {res_text}"
+        lines.append(f"| [{r.case}](#{r.case}) | {_cell(res_text)} | {_cell(r.particles or '-')} | "
                      f"{_run_time(r)} | "
                      f"{_cell(_error_summary(r))} | **{r.verdict}** |")
     lines.append("")
@@ -149,9 +153,10 @@ def _jsonable(results):
         out.append({
             "case": r.case, "title": r.title, "mode": "quick" if r.quick else "full", "backend": r.backend,
             "status": r.status, "verdict": r.verdict, "reason": r.reason, "resolution": r.resolution,
-            "particles": r.particles, "run_seconds": _num(r.run_seconds),
+            "particles": r.particles, "run_seconds": _num(r.run_seconds), "shared": r.shared,
+            "setup": r.setup, "reference": r.reference, "tolerance": r.tolerance,
             "metrics": [{"name": m.name, "value": _num(m.value), "tolerance": m.tolerance, "unit": m.unit,
-                         "passed": m.passed, "note": m.note} for m in r.metrics],
+                         "passed": m.passed, "note": m.note, "lower": m.lower} for m in r.metrics],
             "figures": [Path(f).name for f in r.figures], "notes": r.notes,
         })
     return out
@@ -167,3 +172,124 @@ def write_report(results, out, quick, backend, seconds, command=None):
     (out / "REPORT.html").write_text(markdown_to_html(text))
     (out / "results.json").write_text(json.dumps(_jsonable(results), indent=2, default=float) + "\n")
     return md
+
+
+# ------------------------------------------------------------------ a report from saved results
+def results_from_json(path):
+    """The `CaseResult` entries of a ``results.json`` written by `write_report`.
+
+    Figures are resolved in the ``figures/`` folder beside the file. Older files lack the set-up,
+    reference and tolerance texts and the "shared" flag: the texts are then taken from the case of
+    that name (`shoal.validation.VALIDATION_CASES`), and "shared" from the notes (a run reused from
+    another case says so).
+    """
+    from . import VALIDATION_CASES
+    from .core import CaseResult, Metric
+
+    path = Path(path)
+    try:
+        entries = json.loads(path.read_text())
+    except (OSError, ValueError) as err:
+        raise InputError(f"{path}: cannot read the saved results ({err})") from None
+    if not isinstance(entries, list):
+        raise InputError(f"{path}: not a shoal validate results.json (expected a list of cases)")
+    out = []
+    for e in entries:
+        if not isinstance(e, dict) or "case" not in e:
+            raise InputError(f"{path}: an entry without a case name")
+        case = VALIDATION_CASES.get(e["case"])
+        metrics = [Metric(m["name"], math.nan if m.get("value") is None else m["value"], m.get("tolerance"),
+                          unit=m.get("unit", "%"), passed=m.get("passed"), note=m.get("note", ""),
+                          lower=m.get("lower")) for m in e.get("metrics", [])]
+        notes = list(e.get("notes", []))
+        shared = e.get("shared")
+        if shared is None:
+            shared = any("shared" in n or "reused" in n for n in notes)
+        r = CaseResult(case=e["case"], title=e.get("title", ""), quick=e.get("mode", "quick") == "quick",
+                       backend=e.get("backend", "cpu"), out=path.parent / "figures",
+                       setup=e.get("setup") or getattr(case, "setup", ""),
+                       reference=e.get("reference") or getattr(case, "reference", ""),
+                       tolerance=e.get("tolerance") or getattr(case, "tolerance_text", ""),
+                       resolution=e.get("resolution", ""), particles=e.get("particles", ""),
+                       run_seconds=math.nan if e.get("run_seconds") is None else e["run_seconds"],
+                       shared=bool(shared), metrics=metrics,
+                       figures=[path.parent / "figures" / f for f in e.get("figures", [])],
+                       passed={"PASS": True, "FAIL": False}.get(e.get("verdict")), status=e.get("status", "run"),
+                       reason=e.get("reason", ""), notes=notes)
+        out.append(r)
+    return out
+
+
+def _compare_again(r):
+    """Re-run the comparison of a saved entry from its saved records, where its case can load them."""
+    from . import VALIDATION_CASES
+
+    case = VALIDATION_CASES.get(r.case)
+    if r.status != "run" or case is None or not hasattr(case, "load_saved"):
+        return
+    try:
+        data = case.load_saved(r.out)
+    except (OSError, ValueError, KeyError) as err:  # a damaged record: keep the saved comparison
+        r.notes.append(f"the saved records could not be read again ({type(err).__name__}: {err}); the saved "
+                       "comparison is shown")
+        return
+    if data is None:
+        return
+    saved = {k: v for k, v in (r.data or {}).items()}
+    r.data = {**saved, **data}
+    r.metrics, r.reason = [], ""
+    figs, passed = case.compare(r)
+    r.figures, r.passed = list(figs), bool(passed) if passed is not None else None
+    if r.passed is False:
+        r.reason = "outside the tolerance: " + "; ".join(m.name for m in r.metrics if m.passed is False)
+
+
+def merge_reports(sources, out, cases=None, command=None):
+    """Rebuild the report in `out` from saved results, without running anything.
+
+    The entries of ``out/results.json`` (if any) are taken first, then those of each folder in
+    `sources` (each holding a ``results.json`` and its ``figures/``), an entry replacing the one of
+    the same case; `cases` (names) restricts what is taken from `sources`. Figures and the saved
+    records of a case (the files in ``figures/`` whose names start with the case name) are copied
+    into ``out/figures/``. A case that saves its simulated records (a ``load_saved(folder)`` method,
+    e.g. `bridge-piers`, `spheric-test2`) is compared again from them with the current comparison
+    and tolerance. The cases are written in the order of `VALIDATION_CASES`.
+
+    Returns
+    -------
+    list of CaseResult
+        The merged entries, in report order.
+    """
+    import shutil
+
+    from . import VALIDATION_CASES
+
+    out = Path(out)
+    merged = {}
+    if (out / "results.json").is_file():
+        for r in results_from_json(out / "results.json"):
+            merged[r.case] = r
+    for src in sources or []:
+        src = Path(src)
+        if not (src / "results.json").is_file():
+            raise InputError(f"--from {src}: no results.json there (a folder written by shoal validate --out)")
+        for r in results_from_json(src / "results.json"):
+            if cases and r.case not in cases:
+                continue
+            if src.resolve() != out.resolve():
+                (out / "figures").mkdir(parents=True, exist_ok=True)
+                for f in sorted((src / "figures").glob(f"{r.case}*")) if (src / "figures").is_dir() else []:
+                    shutil.copy2(f, out / "figures" / f.name)
+                r.figures = [out / "figures" / Path(f).name for f in r.figures]
+                r.out = out / "figures"
+            _compare_again(r)
+            merged[r.case] = r
+    order = list(VALIDATION_CASES)
+    results = sorted(merged.values(), key=lambda r: (order.index(r.case) if r.case in order else len(order)))
+    modes = {r.quick for r in results if r.status in ("run", "failed")}
+    quick = modes.pop() if len(modes) == 1 else (True if not modes else None)
+    backends = sorted({r.backend for r in results if r.status in ("run", "failed")}) or ["cpu"]
+    seconds = sum(r.run_seconds for r in results
+                  if r.status in ("run", "failed") and not r.shared and math.isfinite(r.run_seconds))
+    write_report(results, out, quick=quick, backend=", ".join(backends), seconds=seconds, command=command)
+    return results
