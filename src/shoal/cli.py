@@ -379,6 +379,9 @@ def cmd_info(args):
 
 
 def main(argv=None):
+    from .parallel import quiet_other_ranks
+
+    quiet_other_ranks()  # under mpiexec: messages from rank 0 only
     parser = build_parser()
     try:
         args = parser.parse_args(argv)

@@ -72,7 +72,12 @@ def build_model(case, backend="cpu"):
     on_rep = (p.body >= 0) & rep[p.body]
     kinds[on_rep] += 2  # 1 -> 3 (repulsive), 2 -> 4 (moving repulsive)
     fl = case.fluid
-    return Model(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
+    from .parallel import world
+
+    cls = Model
+    if world() is not None:  # under mpiexec with several ranks: this rank's slab (shoal.parallel)
+        from .parallel.model import DistributedModel as cls
+    return cls(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
                  options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
                  surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
                  periodic=tuple(case.domain.periodic) if case.domain else (),
@@ -191,8 +196,14 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
     OutputError
         The disk filled up (or another write failed).
     """
+    from .parallel import world
     from .simulation.resources import DISK_FULL, check_memory, disk_full_message, lock_run_dir
 
+    if world() is not None:  # several MPI ranks (shoal.parallel.run)
+        from .parallel.run import run_case_mpi
+
+        return run_case_mpi(case, out_dir, world(), backend=backend, progress=progress, plot=plot,
+                            max_steps=max_steps, overwrite=overwrite, resume=resume)
     out_dir = Path(out_dir)
     warnings = []
     ck = None

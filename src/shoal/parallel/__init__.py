@@ -1,0 +1,86 @@
+"""MPI domain decomposition (issue 9, first slice): slabs along x, halos, migration.
+
+Under ``mpiexec -n N`` (N > 1) `build_model` returns a `DistributedModel`
+holding this rank's slab of particles plus a halo of ghost copies of the
+neighbour ranks' particles, and `run_case` runs `run.run_case_mpi`. Outside
+MPI nothing here is imported beyond this module, and `world()` only reads
+the environment: the single-process path is unchanged.
+
+- `decomposition`: slab cuts from the particles' x coordinates (weighted counts).
+- `halo`: the exchange with the left and right neighbour ranks (mpi4py
+  buffers, ``Sendrecv``) and the packing of particle rows.
+- `model`: `DistributedModel`, the Model whose ``sort`` drops the old ghosts,
+  migrates particles that left the slab, receives a fresh halo and re-sorts;
+  ``compute_rates`` refreshes the halo values first (every stage of every
+  integrator); the time step is an MPI min.
+- `run`: `run_case_mpi`, the run with rank-0 output (gathered snapshots,
+  gauges and probes).
+"""
+
+from __future__ import annotations
+
+import os
+
+# environment variables an MPI launcher sets (MPICH/Intel MPI hydra and PMI-1/2, Open MPI, MVAPICH, PMIx)
+_SIZE_VARS = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MV2_COMM_WORLD_SIZE", "PMIX_SIZE")
+_world = False  # not looked up yet
+
+
+def launched_by_mpi():
+    """True when an MPI launcher started this process with more than one rank
+    (read from the environment only; mpi4py is not imported)."""
+    if os.environ.get("SHOAL_MPI", "") == "0":
+        return False
+    for v in _SIZE_VARS:
+        try:
+            if int(os.environ.get(v, "1")) > 1:
+                return True
+        except ValueError:
+            pass
+    return os.environ.get("SHOAL_MPI", "") == "1"
+
+
+def world():
+    """``MPI.COMM_WORLD`` when running on more than one MPI rank, else None.
+
+    Zero cost outside MPI: mpi4py is imported only when the environment says
+    an MPI launcher started more than one process (``SHOAL_MPI=0`` forces the
+    single-process path, ``SHOAL_MPI=1`` asks mpi4py)."""
+    global _world
+    if _world is False:
+        comm = None
+        if launched_by_mpi():
+            try:
+                from mpi4py import MPI
+            except ImportError:
+                from ..errors import InputError
+
+                raise InputError("started by an MPI launcher (mpiexec) but mpi4py is not installed; install the "
+                                 "extra: pip install 'shoal[mpi]'") from None
+            if MPI.COMM_WORLD.Get_size() > 1:
+                comm = MPI.COMM_WORLD
+        _world = comm
+    return _world
+
+
+def rank():
+    """This process's MPI rank (0 outside MPI)."""
+    c = world()
+    return 0 if c is None else c.Get_rank()
+
+
+def quiet_other_ranks():
+    """Under mpiexec, send the stdout and stderr of ranks other than 0 to /dev/null (the
+    command line's messages are printed once; a rank that fails alone still writes its
+    error to the real stderr before ending every rank, see `run.abort`)."""
+    if not launched_by_mpi():
+        return
+    for v in ("PMI_RANK", "OMPI_COMM_WORLD_RANK", "MV2_COMM_WORLD_RANK", "PMIX_RANK"):
+        r = os.environ.get(v)
+        if r is not None:
+            if r.strip() not in ("", "0"):
+                import sys
+
+                sys.stdout = open(os.devnull, "w")
+                sys.stderr = open(os.devnull, "w")
+            return

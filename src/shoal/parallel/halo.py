@@ -1,0 +1,75 @@
+"""Exchanges with the left and right neighbour ranks, and the packing of particle rows.
+
+Particle rows travel as one float64 matrix per direction (float32 and
+integer columns are exact in float64): the receiver knows the column layout
+from its own arrays. Every exchange is a pair of ``Sendrecv`` calls, first
+rightwards (send to rank + 1, receive from rank - 1), then leftwards, with
+``MPI.PROC_NULL`` at the ends, so it never deadlocks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def columns(arrays):
+    """Number of float64 columns a row of `arrays` packs into."""
+    return sum(1 if a.ndim == 1 else a.shape[1] for a in arrays)
+
+
+def pack(arrays, rows):
+    """(len(rows), columns) float64 matrix of the given rows of each array."""
+    rows = np.asarray(rows, np.int64)
+    out = np.empty((len(rows), columns(arrays)), np.float64)
+    c = 0
+    for a in arrays:
+        w = 1 if a.ndim == 1 else a.shape[1]
+        out[:, c:c + w] = a[rows].reshape(len(rows), w)
+        c += w
+    return out
+
+
+def unpack(arrays, buf, rows):
+    """Write the packed matrix `buf` into `rows` (an index array or a slice) of each array."""
+    c = 0
+    for a in arrays:
+        w = 1 if a.ndim == 1 else a.shape[1]
+        vals = buf[:, c:c + w]
+        a[rows] = (vals[:, 0] if a.ndim == 1 else vals).astype(a.dtype)
+        c += w
+
+
+def neighbours(comm):
+    """(left, right) ranks, MPI.PROC_NULL at the ends."""
+    from mpi4py import MPI
+
+    r, s = comm.Get_rank(), comm.Get_size()
+    return (r - 1 if r > 0 else MPI.PROC_NULL), (r + 1 if r < s - 1 else MPI.PROC_NULL)
+
+
+def shift(comm, to_left, to_right, ncols, counts=None):
+    """Send `to_left` to rank - 1 and `to_right` to rank + 1; return what
+    arrives (from_left, from_right) as (k, ncols) float64 matrices.
+
+    `counts` = (from_left, from_right) row counts when the receiver knows
+    them already (a halo refresh); otherwise they are exchanged first."""
+    from mpi4py import MPI
+
+    left, right = neighbours(comm)
+    if counts is None:
+        sl = np.array([len(to_left)], np.int64)
+        sr = np.array([len(to_right)], np.int64)
+        rl = np.zeros(1, np.int64)
+        rr = np.zeros(1, np.int64)
+        comm.Sendrecv([sr, MPI.INT64_T], dest=right, sendtag=11, recvbuf=[rl, MPI.INT64_T], source=left, recvtag=11)
+        comm.Sendrecv([sl, MPI.INT64_T], dest=left, sendtag=12, recvbuf=[rr, MPI.INT64_T], source=right, recvtag=12)
+        counts = (int(rl[0]), int(rr[0]))
+    from_left = np.empty((counts[0], ncols), np.float64)
+    from_right = np.empty((counts[1], ncols), np.float64)
+    sr = np.ascontiguousarray(to_right, np.float64)
+    sl = np.ascontiguousarray(to_left, np.float64)
+    comm.Sendrecv([sr, MPI.DOUBLE], dest=right, sendtag=13, recvbuf=[from_left, MPI.DOUBLE], source=left,
+                  recvtag=13)
+    comm.Sendrecv([sl, MPI.DOUBLE], dest=left, sendtag=14, recvbuf=[from_right, MPI.DOUBLE], source=right,
+                  recvtag=14)
+    return from_left, from_right

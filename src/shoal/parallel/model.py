@@ -1,0 +1,370 @@
+"""`DistributedModel`: one rank's slab of particles plus a halo of ghosts.
+
+Layout. The rank's arrays hold its owned particles and ghost copies of the
+neighbour ranks' particles within the halo width `w` of its slab bounds,
+all sorted together into cell order on the same global cell grid as a
+single-process run (so the neighbour search, the physics and the integrators
+are the unchanged single-process code). ``ghost[i]`` (int8, follows the
+sort) flags the ghosts. Ghosts are neighbours of owned particles; their own
+rates are computed too (the simplest correct choice; the cost is the halo's
+share of the particles) and then zeroed, so an integrator update leaves a
+ghost's density unchanged and it just drifts until it is replaced.
+
+Halo width. w = 2h + h/4 without SPS or no-slip walls. SPS's tau and the
+no-slip wall velocity of a particle are sums over its own neighbours, used
+by its neighbours' rates: a ghost within 2h of the slab feeds an owned
+particle, and its tau / wall velocity needs the ghosts 2h beyond it, so
+with SPS or no-slip walls w = 4h + h/4 and the ghosts compute their own
+tau exactly (no second exchange). The h/4 margin covers the particles'
+motion between the sort and the second rate evaluation of the two-stage
+integrators (dt/2 at most CFL h c/c0 / 2, about 0.1 h).
+
+Per step (``sort``): drop the ghosts; the single-process sort of the owned
+particles (periodic y / symmetry wrap, escapes from the domain); migrate
+the owned particles whose x left the slab to the rank on that side (a
+particle may cross one boundary per step); receive a fresh halo (every
+state array, the integrator's included); sort again. Per rate evaluation
+(``compute_rates``): refresh the ghosts' position, velocity and density
+from their owners (rows recorded at the sort), then the usual rates. The
+time step is the min over ranks (``Allreduce``). Mass is exact: particles
+have fixed mass and each is owned by exactly one rank.
+
+Outputs: ``world_positions``, ``fields`` etc. give the owned particles;
+``sample`` (probes, gauges) gives every rank the same values: each point is
+evaluated by the rank whose slab holds it (whose halo covers its support),
+with a fresh halo. ``check`` is collective: every rank raises the same
+`InstabilityError` when any rank finds a bad particle.
+"""
+
+from __future__ import annotations
+
+import time as _time
+
+import numpy as np
+
+from ..errors import InputError, InstabilityError
+from ..model import Model
+from ..physics.spec import FLUID
+from . import halo as _halo
+from .decomposition import slab_cuts
+
+BOUNDARY_WEIGHT = 0.25
+
+
+class CollectiveError(InstabilityError):
+    """An InstabilityError every rank raises together (a collective check)."""
+
+    collective = True
+
+
+class DistributedModel(Model):
+    """A Model holding one MPI rank's slab (see the module docstring).
+
+    Built like a `Model` from the whole particle set (every rank generates
+    it), it keeps the rank's slab and shrinks its arrays; ``comm`` defaults
+    to ``shoal.parallel.world()``.
+    """
+
+    def __init__(self, positions, kinds, *, comm=None, **kw):
+        from . import world
+
+        super().__init__(positions, kinds, **kw)
+        self.comm = comm if comm is not None else world()
+        if self.comm is None:
+            raise InputError("DistributedModel needs an MPI communicator (run under mpiexec with mpi4py)")
+        if "x" in self.periodic:
+            raise InputError("a periodic x axis is not supported under MPI yet (the slabs are cut along x); "
+                             "run it on one process")
+        self.comm_seconds = 0.0
+        self.mpi_rank = self.comm.Get_rank()
+        self.mpi_size = self.comm.Get_size()
+        wide = self.spec.sps or self.spec.no_slip
+        self.halo_width = (4.0 if wide else 2.0) * self.h + 0.25 * self.h
+        kinds = np.asarray(kinds)
+        weights = np.where(kinds == FLUID, 1.0, BOUNDARY_WEIGHT)
+        self.cuts = slab_cuts(np.asarray(positions, np.float64)[:, 0], weights, self.mpi_size, self.halo_width)
+        self.n_global = self.n_total
+        self._capacity = self.n_total
+        self.ghost = np.zeros(self.n_total, np.int8)
+        self.extra_arrays.append(self.ghost)  # follows the sort
+        # keep this rank's slab (ids stay global: idp indexes pos_init / motion_of of the whole set)
+        x = self.pos[: self.n, 0]
+        own = np.flatnonzero((x >= self.cuts[self.mpi_rank]) & (x < self.cuts[self.mpi_rank + 1]))
+        for a in self._state_arrays():
+            a[: len(own)] = a[own]
+        self.n = len(own)
+        self.n_ghost = 0
+        self.n_owned = self.n
+        self._in_sort = False
+        self._halo_fresh = False
+        self._send = (np.zeros(0, np.int64), np.zeros(0, np.int64))
+        self._ghost_rows = np.zeros(0, np.int64)
+        self._ghost_counts = (0, 0)
+        self._resize(max(int(1.3 * self.n) + 1024, 2 * self.n_ghost_estimate() + self.n))
+
+    # ---------------------------------------------------------------- arrays
+    def n_ghost_estimate(self):
+        """Rough number of ghosts: particles within the halo width of the slab bounds."""
+        x = self.pos[: self.n, 0]
+        lo, hi = self.cuts[self.mpi_rank], self.cuts[self.mpi_rank + 1]
+        return int(np.count_nonzero((x < lo + self.halo_width) | (x >= hi - self.halo_width)))
+
+    def _state_arrays(self):
+        """The per-particle state that migrates and is copied to ghosts (the integrator's included)."""
+        return [self.pos, self.vel, self.rho, self.kind, self.idp] + [a for a in self.extra_arrays
+                                                                       if a is not self.ghost]
+
+    def _per_particle_arrays(self):
+        cap = self._capacity
+        arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.vmax, self.pr2,
+                  *self.scratch.values(), *self.extra_arrays, self.grid.cell, self.grid.perm, self.grid._unsorted]
+        arrays += [a for a in (self.xsph, self.tau, self.vwall) if a.shape[0] == cap and cap > 1]
+        return arrays
+
+    def _resize(self, capacity):
+        """Resize every per-particle array in place (the integrator keeps its references)."""
+        capacity = max(int(capacity), 1)
+        if capacity == self._capacity:
+            return
+        seen = set()
+        for a in self._per_particle_arrays():
+            if id(a) in seen:
+                continue
+            seen.add(id(a))
+            a.resize((capacity,) + a.shape[1:], refcheck=False)
+        self._capacity = capacity
+
+    def _ensure(self, rows):
+        if rows > self._capacity:
+            self._resize(int(1.25 * rows) + 1024)
+
+    def new_array(self, like):
+        a = super().new_array(like)
+        # keep the ghost flag last (it is not state)
+        self.extra_arrays[:] = [b for b in self.extra_arrays if b is not self.ghost] + [self.ghost]
+        return a
+
+    def _compact(self, rows):
+        """Move `rows` (ascending) of the state arrays to the front; n = len(rows)."""
+        for a in self._state_arrays() + [self.ghost]:
+            a[: len(rows)] = a[rows]
+        self.n = len(rows)
+
+    # ------------------------------------------------------------ exchanges
+    def _exchange(self, to_left, to_right, ncols, counts=None):
+        t0 = _time.perf_counter()
+        out = _halo.shift(self.comm, to_left, to_right, ncols, counts)
+        self.comm_seconds += _time.perf_counter() - t0
+        return out
+
+    def _drop_ghosts(self):
+        if self.n_ghost:
+            self._compact(np.flatnonzero(self.ghost[: self.n] == 0))
+        self.n_ghost = 0
+
+    def _migrate(self):
+        r, cuts, n = self.mpi_rank, self.cuts, self.n
+        x = self.pos[:n, 0]
+        lo, hi = cuts[r], cuts[r + 1]
+        to_left = np.flatnonzero(x < lo)
+        to_right = np.flatnonzero(x >= hi)
+        too_far = r > 0 and np.any(x[to_left] < cuts[r - 1])
+        too_far = too_far or (r + 2 < len(cuts) and np.any(x[to_right] >= cuts[r + 2]))
+        if too_far:
+            raise InstabilityError(f"rank {r}: a particle crossed more than one slab in one step (slabs are at least "
+                                   f"{self.halo_width:.3g} m wide): the run blew up or the time step is far too "
+                                   "large")
+        arrays = self._state_arrays()
+        ncols = _halo.columns(arrays)
+        send_l = _halo.pack(arrays, to_left)
+        send_r = _halo.pack(arrays, to_right)
+        if len(to_left) or len(to_right):
+            self._compact(np.flatnonzero((x >= lo) & (x < hi)))
+        from_l, from_r = self._exchange(send_l, send_r, ncols)
+        k = len(from_l) + len(from_r)
+        if k:
+            n = self.n
+            self._ensure(n + k)
+            arrays = self._state_arrays()  # the same objects, resized in place
+            unpack = _halo.unpack
+            unpack(arrays, np.concatenate([from_l, from_r]), slice(n, n + k))
+            self.ghost[n:n + k] = 0
+            self.n = n + k
+
+    def _append_halo(self):
+        r, cuts, n, w = self.mpi_rank, self.cuts, self.n, self.halo_width
+        x = self.pos[:n, 0]
+        send_l = np.flatnonzero(x < cuts[r] + w) if r > 0 else np.zeros(0, np.int64)
+        send_r = np.flatnonzero(x >= cuts[r + 1] - w) if r < self.mpi_size - 1 else np.zeros(0, np.int64)
+        arrays = self._state_arrays()
+        from_l, from_r = self._exchange(_halo.pack(arrays, send_l), _halo.pack(arrays, send_r),
+                                        _halo.columns(arrays))
+        g = len(from_l) + len(from_r)
+        self._ensure(n + g)
+        _halo.unpack(self._state_arrays(), np.concatenate([from_l, from_r]), slice(n, n + g))
+        self.ghost[:n] = 0
+        self.ghost[n:n + g] = 1
+        self.n_owned = n
+        self.n_ghost = g
+        self.n = n + g
+        self._send = (send_l, send_r)
+        self._ghost_counts = (len(from_l), len(from_r))
+
+    def _refresh_halo(self):
+        """Copy the owners' current position, velocity and density into the ghosts."""
+        arrays = [self.pos, self.vel, self.rho]
+        ncols = _halo.columns(arrays)
+        from_l, from_r = self._exchange(_halo.pack(arrays, self._send[0]), _halo.pack(arrays, self._send[1]),
+                                        ncols, counts=self._ghost_counts)
+        if len(self._ghost_rows):
+            _halo.unpack(arrays, np.concatenate([from_l, from_r]), self._ghost_rows)
+        self._halo_fresh = True
+
+    def allreduce(self, value, op="min"):
+        from mpi4py import MPI
+
+        t0 = _time.perf_counter()
+        out = self.comm.allreduce(value, op={"min": MPI.MIN, "max": MPI.MAX, "sum": MPI.SUM}[op])
+        self.comm_seconds += _time.perf_counter() - t0
+        return out
+
+    # ------------------------------------------------------------- operations
+    @property
+    def owned(self):
+        """(n,) bool mask of the owned (not ghost) active rows."""
+        return self.ghost[: self.n] == 0
+
+    @property
+    def n_fluid(self):
+        """Active fluid particles owned by this rank."""
+        if self._in_sort:
+            return 1  # a rank may hold no fluid; the whole run's fluid is checked collectively
+        return int(np.count_nonzero((self.kind[: self.n] == FLUID) & self.owned))
+
+    def sort(self):
+        """Drop the ghosts, sort and escape the owned particles, migrate, fetch a new halo, sort again."""
+        self._drop_ghosts()
+        self._in_sort = True
+        try:
+            super().sort()
+            self._migrate()
+            self._append_halo()
+            n_before = self.n
+            super().sort()
+            assert self.n == n_before, "a migrated particle or a ghost fell outside the domain"
+        finally:
+            self._in_sort = False
+        n = self.n
+        inv = np.empty(n, np.int64)
+        inv[self.grid.perm[:n]] = np.arange(n)
+        self._send = (inv[self._send[0]], inv[self._send[1]])
+        self._ghost_rows = inv[self.n_owned + np.arange(self.n_ghost)]
+        self._halo_fresh = True
+        return self.n_owned
+
+    def compute_rates(self):
+        if not self._halo_fresh:
+            self._refresh_halo()
+        self._halo_fresh = False
+        super().compute_rates()
+        g = self._ghost_rows
+        if len(g):
+            self.ace[g] = 0
+            self.drho[g] = 0
+            self.vmax[g] = 0
+            if self.spec.xsph:
+                self.xsph[g] = 0
+
+    def time_step_limit(self):
+        return self.allreduce(super().time_step_limit(), "min")
+
+    def apply_filter(self, kind):
+        self._refresh_halo()
+        super().apply_filter(kind)
+        self._halo_fresh = False
+
+    def check(self, step, time):
+        """Collective: every rank raises the first rank's InstabilityError."""
+        msg = None
+        try:
+            super().check(step, time)
+        except InstabilityError as err:
+            msg = str(err)
+        t0 = _time.perf_counter()
+        msgs = self.comm.allgather(msg)
+        self.comm_seconds += _time.perf_counter() - t0
+        for k, m in enumerate(msgs):
+            if m is not None:
+                raise CollectiveError(f"{m} (MPI rank {k})")
+
+    def free_surface(self):
+        self._refresh_halo()
+        self._halo_fresh = False
+        return super().free_surface()
+
+    def sample(self, points, shepard=True):
+        """SPH interpolation at fixed points, the same on every rank (collective)."""
+        from mpi4py import MPI
+
+        self._refresh_halo()
+        self._halo_fresh = False
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        raw = super().sample(pts, shepard=False)
+        mine = (pts[:, 0] >= self.cuts[self.mpi_rank]) & (pts[:, 0] < self.cuts[self.mpi_rank + 1])
+        buf = np.zeros((len(pts), 6))
+        buf[:, 0] = raw["kernel_sum"]
+        buf[:, 1] = raw["pressure"]
+        buf[:, 2] = raw["density"]
+        buf[:, 3:6] = raw["velocity"]
+        buf[~mine] = 0.0
+        out = np.empty_like(buf)
+        t0 = _time.perf_counter()
+        self.comm.Allreduce(buf, out, op=MPI.SUM)
+        self.comm_seconds += _time.perf_counter() - t0
+        s, vel = out[:, 0], out[:, 3:6]
+        if shepard:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                inv = np.where(s > 0, 1.0 / s, np.nan)
+            return {"kernel_sum": s, "pressure": out[:, 1] * inv, "density": out[:, 2] * inv,
+                    "velocity": vel * inv[:, None]}
+        return {"kernel_sum": s, "pressure": out[:, 1], "density": out[:, 2], "velocity": vel}
+
+    # ---------------------------------------------------------------- output
+    def world_positions(self, active_only=True):
+        """(n_owned, 3) positions of this rank's particles."""
+        return super().world_positions()[self.owned]
+
+    def world_velocities(self):
+        return super().world_velocities()[self.owned]
+
+    def pressure(self):
+        return super().pressure()[self.owned]
+
+    def fields(self):
+        """Point data of this rank's particles (free-surface flags with a fresh halo)."""
+        own = self.owned
+        fs = self.free_surface()[own]
+        return {
+            "velocity": self.world_velocities(),
+            "density": self.host(self.rho)[own].astype(np.float64),
+            "pressure": self.pressure(),
+            "id": self.host(self.idp)[own].copy(),
+            "kind": self.host(self.kind)[own].astype(np.int32),
+            "free_surface": fs.astype(np.int32),
+        }
+
+    def gather_particles(self, root=0):
+        """(positions, fields) of every rank's particles on `root` (None elsewhere), in id order."""
+        t0 = _time.perf_counter()
+        parts = self.comm.gather((self.world_positions(), self.fields()), root=root)
+        self.comm_seconds += _time.perf_counter() - t0
+        if parts is None:
+            return None
+        pos = np.concatenate([p for p, _ in parts])
+        fields = {k: np.concatenate([f[k] for _, f in parts]) for k in parts[0][1]}
+        order = np.argsort(fields["id"], kind="stable")
+        return pos[order], {k: v[order] for k, v in fields.items()}
+
+    def global_count(self):
+        """Particles owned over all ranks (collective)."""
+        return self.allreduce(int(self.n_owned if self.n_ghost else np.count_nonzero(self.owned)), "sum")

@@ -1,0 +1,284 @@
+"""`run_case_mpi`: `shoal run` / `shoal.run_case` on several MPI ranks.
+
+What this slice writes (all from rank 0 unless said): ``case.toml``,
+``resolved.json`` (with the ranks and slab cuts), ``run.log`` (with the
+communication share of the wall time), snapshots gathered to rank 0 into
+the usual ``<name>_NNNN.vtu`` + ``<name>.pvd`` (one file per snapshot, as
+a single-process run writes: `shoal post` and the offline probes read them
+unchanged; per-rank pieces with a ``.pvtu`` are a later slice, for runs too
+big to gather), point probes, wave gauges and test-point grids (each point
+sampled by the rank whose slab holds it, the values on every rank, rank 0
+writes), ``escaped.csv`` (rank 0's escapes; rank r's in ``escaped.rank<r>.csv``)
+and the final PNG.
+
+Not yet under MPI (refused with one line): checkpoints and ``--resume``,
+trackers, max-z and run-up gauges, the CUDA backend, periodic x. Stop
+signals are not caught (mpiexec's own handling ends every rank).
+
+Errors: bad input is found on every rank alike (or decided on rank 0 and
+broadcast) and raised everywhere; a collective check (instability, escaped
+fluid) raises the same error on every rank; any other error on one rank
+prints ``shoal: MPI rank R: ...`` and calls ``MPI_Abort``, which ends every
+rank: a failing rank never leaves the others hanging.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import platform
+import sys
+import tempfile
+import traceback
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from ..errors import InputError, InstabilityError, OutputError, RunInterrupted
+from .model import CollectiveError
+
+EXIT_STATUS = {InputError: 2, InstabilityError: 3, OutputError: 4}
+
+
+def _status(err):
+    for cls, code in EXIT_STATUS.items():
+        if isinstance(err, cls):
+            return code
+    return 1
+
+
+def abort(comm, err):
+    """Print `err` with this rank's number on the process's real stderr and end every rank."""
+    r = comm.Get_rank()
+    if isinstance(err, (InputError, InstabilityError, OutputError)):
+        text = f"shoal: MPI rank {r}: {err}\n"
+    else:
+        text = f"shoal: MPI rank {r}: unexpected error:\n" + "".join(traceback.format_exception(err))
+    try:
+        sys.__stderr__.write(text)
+        sys.__stderr__.flush()
+    finally:
+        comm.Abort(_status(err))
+
+
+def _agree(comm, message):
+    """Raise InputError(message of rank 0) on every rank when rank 0 found one."""
+    message = comm.bcast(message, root=0)
+    if message:
+        raise InputError(message)
+
+
+class _GatheredSnapshots:
+    """Snapshot callback: every rank's particles gathered to rank 0, written as one .vtu."""
+
+    def __init__(self, out_dir, name, rank):
+        from ..simulation.writers import SnapshotWriter
+
+        self.rank = rank
+        self.inner = SnapshotWriter(out_dir, name) if rank == 0 else None
+        self.count = 0
+        self.last_time = None
+
+    def __call__(self, sim):
+        self.write(sim.model, sim.time)
+
+    def write(self, model, time, suffix=None):
+        from ..output import write_vtu
+
+        data = model.gather_particles()
+        self.last_time = time if suffix is None else self.last_time
+        if self.rank != 0:
+            self.count += suffix is None
+            return None
+        w = self.inner
+        fname = f"{w.name}_{w.count:04d}.vtu" if suffix is None else f"{w.name}_{suffix}.vtu"
+        path = w.directory / fname
+        write_vtu(path, data[0], data[1], time=time)
+        if suffix is None:
+            w.pvd.add(time, fname)
+            w.count += 1
+            w.last_time = time
+            self.count = w.count
+        return path
+
+
+def _escaped_recorder(out_dir, model, rank):
+    from ..simulation.escaped import HEADER, EscapedRecorder
+
+    rec = EscapedRecorder.__new__(EscapedRecorder)
+    rec.path = Path(out_dir) / ("escaped.csv" if rank == 0 else f"escaped.rank{rank}.csv")
+    rec.max_fraction = 1.0
+    rec.n_fluid0 = 0
+    rec.file = open(rec.path, "w", newline="")
+    rec.writer = csv.writer(rec.file)
+    rec.writer.writerow(HEADER)
+    rec.file.flush()
+    rec.last = None
+    model.on_escape = rec.on_escape
+    return rec
+
+
+def unsupported(case, backend):
+    """One line naming what this slice cannot run under MPI, or None."""
+    if backend != "cpu":
+        return f"the {backend} backend is not supported under MPI yet (one GPU per rank is a later slice); use --backend cpu"
+    bad = [p for p in case.probes if p.type in ("tracker", "maxz", "runup")]
+    if bad:
+        return (f"probe {bad[0].name!r} of type {bad[0].type!r} is not supported under MPI yet (points, gauge and "
+                "grid probes are); run it on one process or remove the probe")
+    if case.domain is not None and "x" in case.domain.periodic:
+        return "a periodic x axis is not supported under MPI yet (the slabs are cut along x); run it on one process"
+    return None
+
+
+def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False,
+                 resume=False):
+    """`shoal.run_case` on every rank of `comm` (see the module docstring). Returns a `RunResult`
+    on every rank (``particles``, ``escaped``: whole-run figures)."""
+    rank = comm.Get_rank()
+    out_dir = Path(out_dir)
+    started = False
+    try:
+        msg = None
+        if rank == 0:
+            from ..simulation.resources import check_memory
+
+            try:
+                if resume:
+                    raise InputError("--resume is not supported under MPI yet (checkpoints per rank are a later "
+                                     "slice); resume on one process")
+                if case.checkpoint.interval > 0:
+                    raise InputError("checkpoints are not written under MPI yet (a later slice); drop "
+                                     "--checkpoint-interval / [checkpoint] interval or run on one process")
+                m = unsupported(case, backend)
+                if m:
+                    raise InputError(m)
+                if not overwrite and (out_dir / "resolved.json").exists():
+                    raise InputError(f"{out_dir} already holds a run (resolved.json); choose another --out directory "
+                                     "or pass --overwrite")
+                check_memory(case)
+                out_dir.mkdir(parents=True, exist_ok=True)
+            except InputError as err:
+                msg = str(err)
+            except OSError as err:
+                msg = f"cannot write to the output directory {out_dir}: {err.strerror or err}"
+        _agree(comm, msg)
+        from ..runner import build_model
+
+        model = build_model(case, backend)  # a DistributedModel: deterministic errors, raised on every rank
+        started = True
+        return _run(case, out_dir, comm, model, progress, plot, max_steps, backend)
+    except BaseException as err:  # noqa: BLE001 -- anything not raised on every rank alike ends every rank
+        if getattr(err, "collective", False) or (not started and isinstance(err, InputError)):
+            raise
+        if isinstance(err, (KeyboardInterrupt, RunInterrupted)):
+            raise
+        abort(comm, err)
+        raise
+
+
+def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
+    import time as _time
+
+    from ..casefile import write_case
+    from ..probes import make_recorder
+    from ..runner import RunResult, _close_log, _logger, _Progress, run_summary
+    from ..simulation import IterationInterval, Simulation, TimeInterval
+
+    rank, size = comm.Get_rank(), comm.Get_size()
+    sim = Simulation(model, case.end_time)
+    sim.damping = list(case.damping)
+    log = None
+    if rank == 0:
+        write_case(case, out_dir / "case.toml")
+        resolved = run_summary(case, model)
+        resolved.update(shoal_version=__version__, backend=backend, python=platform.python_version(),
+                        threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
+                        speed_of_sound=model.c0, eos_B=model.B, particle_mass=model.mass,
+                        mpi={"ranks": size, "slab_cuts_x": model.cuts[1:-1].tolist(),
+                             "halo_width": model.halo_width})
+        (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
+        log = _logger(out_dir)
+        log.info("case %s: %s", case.name, case.description)
+        log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d MPI ranks x %d threads, %s; "
+                 "slab cuts x = %s m, halo %.4g m", model.n_global, case.n_fluid, case.dp, model.h, model.c0,
+                 backend, size, model.backend.threads(), case.options.precision,
+                 ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), model.halo_width)
+    escaped = _escaped_recorder(out_dir, model, rank)
+    model.sort()
+    probe_dir = out_dir if rank == 0 else Path(tempfile.mkdtemp(prefix=f"shoal-rank{rank}-"))
+    recorders = [make_recorder(p, probe_dir, case.dp, model) for p in case.probes]
+    for rec in recorders:
+        sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
+    writer = _GatheredSnapshots(out_dir, case.name, rank)
+    sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
+    bar = _Progress(case.end_time, progress and rank == 0)
+    sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False), name="progress")
+    n_fluid0 = case.n_fluid
+
+    def log_step(s):
+        n = model.global_count()
+        esc = model.allreduce(model.n_escaped, "sum")
+        if log is not None:
+            log.info("step %d t %.6g s dt %.4g s particles %d escaped %d", s.step_count, s.time, s.dt or 0.0, n, esc)
+
+    sim.add_callback(log_step, TimeInterval(case.output.interval, exact=False), name="log")
+    if case.max_escaped_fraction < 1.0:
+        def escaped_check(s):
+            gone = n_fluid0 - model.allreduce(model.n_fluid, "sum")
+            if gone > case.max_escaped_fraction * n_fluid0:
+                raise CollectiveError(
+                    f"{gone} of {n_fluid0} fluid particles ({100.0 * gone / n_fluid0:.1f} %) have left the domain by "
+                    f"step {s.step_count}, t = {s.time:.6g} s, more than max_escaped_fraction = "
+                    f"{case.max_escaped_fraction:g} (list in escaped*.csv): enlarge the domain, or check the inflow, "
+                    "the walls and the time step")
+        sim.add_callback(escaped_check, IterationInterval(1), name="escaped")
+    closers = [escaped, *recorders]
+    t0 = _time.perf_counter()
+    try:
+        sim.run(max_steps=max_steps)
+    except InstabilityError as err:
+        bar.stop()
+        for rec in closers:
+            rec.close()
+        if not getattr(err, "collective", False):
+            raise
+        path = writer.write(model, sim.time, suffix="unstable")
+        if log is not None:
+            log.error("%s; bad state written to %s", err, path.name)
+            _close_log(log)
+        raise CollectiveError(f"{err} (state written to {path or out_dir})") from None
+    finally:
+        bar.stop()
+    if writer.last_time is None or writer.last_time < sim.time - 1e-12:
+        writer(sim)
+    for rec in closers:
+        rec.close()
+    wall = _time.perf_counter() - t0
+    comm_max = model.allreduce(model.comm_seconds, "max")
+    comm_min = model.allreduce(model.comm_seconds, "min")
+    n_escaped = model.allreduce(model.n_escaped, "sum")
+    n_now = model.global_count()
+    data = model.gather_particles() if plot else None
+    if plot and rank == 0:
+        from ..output import plot_particles
+
+        pos, f = data
+        plot_particles(out_dir / f"{case.name}_final.png", pos, np.linalg.norm(f["velocity"], axis=1), kind=f["kind"],
+                       title=f"{case.name}  t = {sim.time:.3f} s", value_label="|v| [m/s]", dim=case.dim)
+    if rank != 0:
+        import shutil
+
+        shutil.rmtree(probe_dir, ignore_errors=True)
+    result = RunResult(out_dir, sim.step_count, sim.time, sim.wall_seconds, model.backend.compile_seconds,
+                       model.n_global, n_escaped, writer.count, model, sim)
+    if log is not None:
+        log.info("done: %d steps to t = %.6g s in %.2f s wall (%.2f s compile), %.3g particle-steps/s, %d particles "
+                 "(%d at the start), %d escaped; communication (exchanges, reductions, gathers, and waiting for "
+                 "the slowest rank) %.2f-%.2f s per rank, %.1f %% of the wall time at most",
+                 result.steps, result.time, result.wall_seconds, result.compile_seconds,
+                 result.particle_steps_per_second, n_now, model.n_global, n_escaped, comm_min, comm_max,
+                 100.0 * comm_max / max(wall, 1e-9))
+        _close_log(log)
+    return result

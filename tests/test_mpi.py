@@ -1,0 +1,165 @@
+"""MPI domain decomposition (shoal.parallel, issue 9): halo, migration, and a
+small 3D dam break on 2 ranks against the single-process run.
+
+Skipped when mpi4py is not installed or ``mpiexec`` does not start 2 ranks
+here (``pip install '.[mpi]'`` brings both from wheels). Each rank runs
+with one Numba thread.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mpi4py")
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+HERE = Path(__file__).resolve().parent
+
+
+def _mpiexec():
+    exe = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or shutil.which("mpiexec")
+    if exe is None:
+        pytest.skip("no mpiexec (pip install mpich, or a system MPI)")
+    try:
+        version = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.TimeoutExpired):
+        pytest.skip("mpiexec --version failed")
+    extra = ["--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
+    return [exe, *extra]
+
+
+def _env():
+    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("SHOAL_MPI", None)
+    return env
+
+
+@pytest.fixture(scope="module")
+def mpiexec():
+    cmd = _mpiexec()
+    probe = "from mpi4py import MPI; import sys; sys.exit(0 if MPI.COMM_WORLD.Get_size() == 2 else 1)"
+    try:
+        r = subprocess.run([*cmd, "-n", "2", sys.executable, "-c", probe], capture_output=True, text=True,
+                           timeout=60, env=_env())
+    except subprocess.TimeoutExpired:
+        pytest.skip("mpiexec -n 2 did not finish in 60 s")
+    if r.returncode != 0:
+        pytest.skip(f"mpiexec -n 2 does not run 2 ranks here: {r.stderr.strip()[-300:]}")
+    return cmd
+
+
+def test_world_is_none_outside_mpi():
+    """The single-process path never imports mpi4py nor changes the Model."""
+    code = ("import sys, shoal.parallel as p, shoal.runner; "
+            "assert p.world() is None and 'mpi4py' not in sys.modules; print('ok')")
+    env = _env()
+    for v in ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "MV2_COMM_WORLD_SIZE", "PMIX_SIZE"):
+        env.pop(v, None)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 0 and "ok" in r.stdout, r.stderr
+
+
+def test_slab_cuts():
+    from shoal.errors import InputError
+    from shoal.parallel.decomposition import slab_cuts
+
+    x = np.linspace(0.0, 1.0, 1001)
+    cuts = slab_cuts(x, np.ones_like(x), 4, 0.1)
+    assert cuts[0] == -np.inf and cuts[-1] == np.inf
+    assert np.allclose(cuts[1:-1], [0.25, 0.5, 0.75], atol=2e-3)
+    # weights: the heavy half gets the cut
+    w = np.where(x < 0.5, 3.0, 1.0)
+    assert slab_cuts(x, w, 2, 0.1)[1] < 0.5
+    # a narrow slab is widened to the halo width
+    xs = np.concatenate([np.zeros(900), np.linspace(0, 1, 100)])
+    c = slab_cuts(xs, np.ones_like(xs), 2, 0.3)
+    assert c[1] >= 0.3 - 1e-12
+    with pytest.raises(InputError, match="at most 3 ranks"):
+        slab_cuts(x, np.ones_like(x), 5, 0.3)
+
+
+def test_halo_migration_and_rates(mpiexec):
+    """Rates near the slab cut equal the single-process rates to round-off (float32, after random
+    displacements, velocities and densities; default scheme and SPS + XSPH + diffusion); the time step
+    is the same; particles pushed across the cut each way end up on exactly one rank."""
+    r = subprocess.run([*mpiexec, "-n", "2", sys.executable, str(HERE / "mpi" / "check_halo.py")],
+                       capture_output=True, text=True, timeout=300, env=_env())
+    line = [s for s in r.stdout.splitlines() if s.startswith("RESULTS ")]
+    assert line, r.stdout[-2000:] + r.stderr[-3000:]
+    res = json.loads(line[0][len("RESULTS "):])
+    assert res["default_fluid_near_cut"] > 100
+    assert res["default_rates_rel_err"] < 1e-5, res
+    assert res["sps_xsph_symplectic_rates_rel_err"] < 1e-5, res
+    assert res["default_dt_rel_err"] < 1e-6 and res["sps_xsph_symplectic_dt_rel_err"] < 1e-6, res
+    assert res["migration_unique"] and res["migration_moved_on_one_rank"] and res["migration_owned_inside_slab"], res
+    assert r.returncode == 0, r.stderr[-2000:]
+
+
+def _front(vtu):
+    from shoal.output.vtu import read_vtu
+
+    pts, data = read_vtu(vtu)[:2]
+    fluid = np.asarray(data["kind"]) == 0
+    return float(pts[fluid, 0].max()), np.asarray(data["id"]), pts
+
+
+def test_dam_break_two_ranks_matches_one(mpiexec, tmp_path):
+    """A small 3D dam break (9,204 particles, symplectic, float32, to t = 0.15 s) on 2 ranks against 1:
+    the same particles (ids), so the mass (count x particle mass) is exactly conserved; the front and a
+    gauge in the column within 0.01 dp. The runs differ by round-off only (the order of the pair sums
+    within a cell differs, so they are not bitwise equal): measured 4e-8 m at the front and 1e-8 m at the
+    gauge at t = 0.2 s (dp = 0.02 m); a halo or migration fault gives differences of the order of dp."""
+    import shoal
+    from shoal.cases.dam_break import dam_break_3d
+    from shoal.probes import WaveGauge
+
+    dp = 0.02
+    case = dam_break_3d(dp=dp, end_time=0.15, output_interval=0.05,
+                        options=shoal.SPHOptions(integrator="symplectic"))
+    case = case.model_copy(update={"probes": [WaveGauge(name="column", x=0.07, y=0.08, z0=0.0, z1=0.35,
+                                                        interval=0.025)]})
+    toml = tmp_path / "db.toml"
+    shoal.write_case(case, toml)
+    base = [sys.executable, "-m", "shoal", "run", str(toml), "--no-plot", "--no-progress"]
+    one = subprocess.run([*base, "--out", str(tmp_path / "one")], capture_output=True, text=True, timeout=300,
+                         env=_env())
+    assert one.returncode == 0, one.stderr[-2000:]
+    two = subprocess.run([*mpiexec, "-n", "2", *base, "--out", str(tmp_path / "two")], capture_output=True,
+                         text=True, timeout=300, env=_env())
+    assert two.returncode == 0, two.stdout[-1000:] + two.stderr[-2000:]
+    assert two.stdout.count("shoal: ") == one.stdout.count("shoal: ")  # rank 0 speaks alone
+    resolved = json.loads((tmp_path / "two" / "resolved.json").read_text())
+    assert resolved["mpi"]["ranks"] == 2
+    f1, ids1, p1 = _front(tmp_path / "one" / "dam-break-3d_0003.vtu")
+    f2, ids2, p2 = _front(tmp_path / "two" / "dam-break-3d_0003.vtu")
+    # every particle exactly once, none lost: mass = count x particle mass, exactly conserved
+    assert len(ids2) == len(ids1) == case.n_particles
+    assert np.array_equal(np.sort(ids2), np.arange(case.n_particles))
+    assert f1 - case.parameters["a"] > 2 * dp  # the surge has moved
+    assert abs(f2 - f1) <= 0.01 * dp, (f1, f2)
+    g1 = np.loadtxt(tmp_path / "one" / "gauge_column.csv", delimiter=",", skiprows=1)
+    g2 = np.loadtxt(tmp_path / "two" / "gauge_column.csv", delimiter=",", skiprows=1)
+    assert g1.shape == g2.shape and np.allclose(g1[:, 0], g2[:, 0])
+    assert g1[0, 1] - g1[-1, 1] > 2 * dp  # the level in the column falls
+    assert np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * dp, np.column_stack([g1, g2[:, 1]])
+    log = (tmp_path / "two" / "run.log").read_text()
+    assert "2 MPI ranks" in log and "communication" in log
+
+
+def test_too_many_ranks_is_one_line(mpiexec, tmp_path):
+    """More ranks than slabs at least one halo wide: exit status 2, one line naming the limit."""
+    r = subprocess.run([*mpiexec, "-n", "3", sys.executable, "-m", "shoal", "run", "dam-break-3d", "--dp", "0.01",
+                        "--param", "tank_length=0.05", "--param", "a=0.05", "--end-time", "0.01", "--out",
+                        str(tmp_path / "x"), "--no-plot", "--no-progress"],
+                       capture_output=True, text=True, timeout=120, env=_env())
+    assert r.returncode == 2, r.stdout + r.stderr
+    lines = [s for s in r.stderr.splitlines() if s.strip()]
+    assert len(lines) == 1 and "too many" in lines[0] and "at most" in lines[0], r.stderr
