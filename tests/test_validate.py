@@ -10,6 +10,7 @@ input (an unknown case, --quick with --full) is one line and exit status 2.
 import json
 import re
 
+import numpy as np
 import pytest
 
 from shoal.cli import main
@@ -70,8 +71,9 @@ def test_impossible_tolerance_is_a_fail_not_a_crash(tmp_path):
 
 def test_a_case_not_built_yet_and_a_missing_long_run_are_reported(tmp_path, monkeypatch):
     monkeypatch.setenv("SHOAL_VALIDATION_DIR", str(tmp_path / "empty"))
-    results = run_validation(["spheric-test2", "rip-current"], quick=True, out=tmp_path, log=None)
-    assert [r.verdict for r in results] == ["not yet", "not run"]
+    results = run_validation(["wave-flume", "rip-current", "spheric-test2"], quick=True, out=tmp_path, log=None)
+    assert [r.verdict for r in results] == ["not yet", "not run", "not run"]
+    assert "full only" in results[2].reason
     md = (tmp_path / "REPORT.md").read_text()
     assert "**Result: not run**" in md and "not yet in this slice" in md
 
@@ -113,3 +115,125 @@ def test_every_case_is_listed_and_cheapest_two_are_the_ci_ones():
 def test_report_of_no_cases_is_still_written(tmp_path):
     write_report([], tmp_path, quick=True, backend="cpu", seconds=0.0)
     assert (tmp_path / "REPORT.md").is_file() and (tmp_path / "REPORT.html").is_file()
+
+
+# ------------------------------------------------------------------ the comparisons on synthetic data
+def _bore_record(t, x, peak, d0=0.1, d1=0.132):
+    """A smooth undular-bore-like level at a gauge x: a front at x / 0.93 s, a first crest `peak`."""
+    ta = x / 0.93
+    front = 0.5 * (1 + np.tanh((t - ta) / 0.03))
+    crest = (peak - d1) * np.exp(-(((t - ta - 0.15) / 0.08) ** 2))
+    return d0 + (d1 - d0) * front + crest
+
+
+def _bridge_result(tmp_path, increase):
+    from shoal.validation.bridge_piers import GAUGES, BridgePiers
+
+    case = BridgePiers()
+    res = case.new_result(True, "cpu", tmp_path)
+    t = np.arange(0, 2.1, 0.01)
+    xs = dict(zip(GAUGES, (1.0, 1.4, 1.6)))
+    runs = {}
+    for label, f in (("no piers", 1.0), ("piers", 1.0 + increase)):
+        runs[label] = dict(gauges={g: (x, t, _bore_record(t, x, 0.142 * f)) for g, x in xs.items()},
+                           particles=1, fluid=1, steps=10, seconds=1.0, escaped=0)
+    res.data = dict(runs=runs, dp=0.02, t_end=2.1)
+    return case, res
+
+
+@pytest.mark.parametrize("increase, passed", [(0.07, True), (0.0, False), (0.30, False), (-0.05, False)])
+def test_bridge_piers_comparison_on_synthetic_records(tmp_path, increase, passed):
+    case, res = _bridge_result(tmp_path, increase)
+    figs, ok = case.compare(res)
+    assert ok is passed
+    judged = [m for m in res.metrics if m.tolerance is not None]
+    assert len(judged) == 3 and all(m.tolerance_text == "in [2.00 %, 15.00 %]" for m in judged)
+    for m in judged:  # the peak of the smoothed record, so a little under the synthetic crest ratio
+        assert m.value == pytest.approx(increase, abs=0.01)
+    assert figs[0].is_file() and figs[0].stat().st_size < 100_000
+
+
+def test_bridge_piers_full_band_is_narrower():
+    from shoal.validation.bridge_piers import BridgePiers
+
+    assert BridgePiers().band(True) == (0.02, 0.15) and BridgePiers().band(False) == (0.03, 0.12)
+
+
+def test_spheric_height_labels_are_mapped_by_arrival_time():
+    from shoal.validation.spheric_test2 import height_label_mapping, load_reference
+
+    t = np.linspace(0, 2, 201)
+    step = lambda ta: np.where(t >= ta, 0.1, 0.0)  # noqa: E731
+    mapping, _ = height_label_mapping(t, {"A": step(0.9), "B": step(0.35), "C": step(0.2), "D": 0.55 + 0 * t})
+    assert mapping == {"D": 2.638, "C": 1.488, "B": 0.992, "A": 0.496}
+    ref = load_reference()  # the official file: H1 is the gauge at 1.488 m, H3 the one behind the box
+    assert ref["mapping"] == {"H1": 1.488, "H2": 0.992, "H3": 0.496, "H4": 2.638}
+    assert ref["arrivals"]["H1"] == pytest.approx(0.194, abs=0.002)
+
+
+def test_spheric_comparison_on_the_reference_itself_and_a_bad_record(tmp_path):
+    from shoal.validation.spheric_test2 import GAUGE_X, SphericTest2, load_reference
+
+    ref = load_reference()
+    t = np.arange(0, 4.0 + 1e-9, 0.005)
+    case = SphericTest2()
+
+    def result(shift=0.0, scale=1.0):
+        res = case.new_result(False, "cpu", tmp_path)
+        res.data = dict(gauges={x: (t, scale * np.interp(t - shift, ref["t"], ref["heights"][x]))
+                                for x in GAUGE_X.values()},
+                        tp=t, pressure={k: scale * np.interp(t - shift, ref["t"], ref["pressure"][k])
+                                        for k in ("P1", "P3")}, dp=0.05, end_time=4.0)
+        return res
+
+    good = result()
+    figs, ok = case.compare(good)
+    assert ok, [(m.name, m.value) for m in good.metrics]
+    heights = [m for m in good.metrics if m.name.startswith("water height")]
+    assert len(heights) == 4 and all(m.value < 0.01 for m in heights)
+    time_err, peak_err = (m for m in good.metrics if m.name.startswith("P1"))
+    assert abs(time_err.value) <= 0.005 and abs(peak_err.value) < 0.05, (time_err.note, peak_err.note)
+    assert figs[0].is_file() and figs[0].stat().st_size < 100_000
+    bad = result(shift=0.3, scale=0.4)
+    _, ok = case.compare(bad)
+    assert not ok
+    assert next(m for m in bad.metrics if m.name.startswith("P1: time")).passed is False
+
+
+def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
+    from shoal.validation import CaseResult, Metric
+
+    def entry(case, quick, value, folder):
+        r = CaseResult(case=case, title=case, quick=quick, out=folder / "figures", setup="s", reference="r",
+                       tolerance="t", resolution="dp = 1", run_seconds=10.0)
+        r.metrics = [Metric("band", value, 0.15, lower=0.02)]
+        r.passed = r.metrics[0].passed
+        (folder / "figures").mkdir(parents=True, exist_ok=True)
+        png = folder / "figures" / f"{case}.png"
+        png.write_bytes(b"png")
+        (folder / "figures" / f"{case}_notes.txt").write_text("kept with the figures\n")
+        r.figures = [png]
+        return r
+
+    base, a, b = tmp_path / "base", tmp_path / "a", tmp_path / "b"
+    write_report([entry("hydrostatic", True, 0.05, base), entry("bridge-piers", True, 0.0, base)], base, True, "cpu", 20)
+    bp = entry("bridge-piers", True, 0.0, a)  # the saved verdict is stale: the saved records say +7 %
+    case, synthetic = _bridge_result(a / "figures", 0.07)
+    case._save(synthetic)
+    write_report([bp], a, True, "cpu", 10)
+    write_report([entry("spheric-test2", False, 0.05, b)], b, False, "cpu", 10)
+    assert main(["validate", "--report-only", "--from", str(a), "--from", str(b), "--out", str(base)]) == 0
+    merged = {r["case"]: r for r in json.loads((base / "results.json").read_text())}
+    assert list(merged) == ["hydrostatic", "spheric-test2", "bridge-piers"]  # report order
+    bpm = merged["bridge-piers"]["metrics"]  # compared again from the saved gauge records
+    assert merged["bridge-piers"]["verdict"] == "PASS" and len(bpm) == 4 and bpm[0]["lower"] == 0.02
+    assert bpm[0]["value"] == pytest.approx(0.07, abs=0.01)
+    assert merged["spheric-test2"]["mode"] == "full" and merged["hydrostatic"]["setup"] == "s"
+    assert (base / "figures" / "spheric-test2.png").is_file() and (base / "figures" / "bridge-piers_gauges.csv").is_file()
+    assert (base / "figures" / "spheric-test2_notes.txt").is_file()
+    md = (base / "REPORT.md").read_text()
+    assert "quick and full resolutions" in md and "| full: dp = 1 |" in md and "--report-only" in md
+    assert "in [2.00 %, 15.00 %]" in md
+    assert main(["validate", "--from", str(a), "--out", str(base)]) == 2
+    assert main(["validate", "--report-only", "--from", str(tmp_path / "none"), "--out", str(base)]) == 2
+    assert capsys.readouterr().err.count("shoal: error:") == 2

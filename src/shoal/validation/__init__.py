@@ -20,16 +20,18 @@ from pathlib import Path
 
 from ..errors import InputError
 from .bores import TidalBores, UndularAmplitude
+from .bridge_piers import BridgePiers
 from .core import CaseResult, Metric, PendingCase, ValidationCase, find_validation_dir
 from .dam_break import DamBreak2D
 from .hydrostatic import Hydrostatic
 from .poiseuille import Poiseuille
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
+from .spheric_test2 import SphericTest2
 
 __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", "CaseResult", "Metric",
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
-           "ResolutionStudy", "PendingCase", "find_validation_dir"]
+           "ResolutionStudy", "SphericTest2", "BridgePiers", "PendingCase", "find_validation_dir"]
 
 _NOT_YET = "not yet in this slice of issue 8"
 
@@ -43,12 +45,10 @@ def _all_cases():
         UndularAmplitude(),
         ResolutionStudy(),
         RipCurrent(),
-        PendingCase("spheric-test2", "3D dam break with an obstacle (SPHERIC Test 2, Kleefsman et al. 2005)",
-                    _NOT_YET + " (the official record is in shared/validation-data/; the 3D run at "
-                    "dp = 0.03 m takes 30+ minutes on 2 cores, so it will be --full only)"),
+        SphericTest2(),
         PendingCase("wave-flume", "Piston wavemaker vs Biesel and linear dispersion (wave-flume-2d)",
                     _NOT_YET),
-        PendingCase("bridge-piers", "Undular bore with and without bridge piers (tidal-bore-piers)", _NOT_YET),
+        BridgePiers(),
     ]
 
 
