@@ -163,3 +163,29 @@ def test_too_many_ranks_is_one_line(mpiexec, tmp_path):
     assert r.returncode == 2, r.stdout + r.stderr
     lines = [s for s in r.stderr.splitlines() if s.strip()]
     assert len(lines) == 1 and "too many" in lines[0] and "at most" in lines[0], r.stderr
+
+
+def test_failing_rank_ends_every_rank(mpiexec, tmp_path):
+    """An error on one rank alone (injected in its 5th rate evaluation) ends every rank with that rank's
+    message (MPI_Abort) instead of leaving the other waiting in the next exchange."""
+    r = subprocess.run([*mpiexec, "-n", "2", sys.executable, str(HERE / "mpi" / "fail_one_rank.py"),
+                        str(tmp_path / "run")], capture_output=True, text=True, timeout=180, env=_env())
+    assert r.returncode != 0
+    assert "shoal: MPI rank 1: unexpected error" in r.stderr and "injected failure on rank 1" in r.stderr, r.stderr
+
+
+def test_instability_is_collective(mpiexec, tmp_path):
+    """A blow-up found on any rank stops every rank together: exit status 3, one message naming the
+    particle and the rank, and the bad state gathered into <case>_unstable.vtu."""
+    import shoal
+    from shoal.cases.dam_break import dam_break_3d
+
+    case = dam_break_3d(dp=0.02, end_time=0.1, options=shoal.SPHOptions(fixed_dt=1.5e-3, integrator="symplectic"))
+    shoal.write_case(case, tmp_path / "blow.toml")
+    r = subprocess.run([*mpiexec, "-n", "2", sys.executable, "-m", "shoal", "run", str(tmp_path / "blow.toml"),
+                        "--out", str(tmp_path / "run"), "--no-plot", "--no-progress"],
+                       capture_output=True, text=True, timeout=180, env=_env())
+    assert r.returncode == 3, r.stdout + r.stderr
+    lines = [s for s in r.stderr.splitlines() if s.strip()]
+    assert len(lines) == 1 and "run stopped: unstable at step" in lines[0] and "(MPI rank " in lines[0], r.stderr
+    assert (tmp_path / "run" / "dam-break-3d_unstable.vtu").exists()
