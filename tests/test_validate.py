@@ -216,7 +216,10 @@ def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
         return r
 
     base, a, b = tmp_path / "base", tmp_path / "a", tmp_path / "b"
-    write_report([entry("hydrostatic", True, 0.05, base), entry("bridge-piers", True, 0.0, base)], base, True, "cpu", 20)
+    stale = CaseResult(case="wave-flume", status="not yet", reason="not yet")  # still pending: kept
+    built = CaseResult(case="tidal-bores", status="not yet", reason="not yet")  # built since: not run
+    write_report([entry("hydrostatic", True, 0.05, base), entry("bridge-piers", True, 0.0, base), stale, built],
+                 base, True, "cpu", 20)
     bp = entry("bridge-piers", True, 0.0, a)  # the saved verdict is stale: the saved records say +7 %
     case, synthetic = _bridge_result(a / "figures", 0.07)
     case._save(synthetic)
@@ -224,7 +227,9 @@ def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
     write_report([entry("spheric-test2", False, 0.05, b)], b, False, "cpu", 10)
     assert main(["validate", "--report-only", "--from", str(a), "--from", str(b), "--out", str(base)]) == 0
     merged = {r["case"]: r for r in json.loads((base / "results.json").read_text())}
-    assert list(merged) == ["hydrostatic", "spheric-test2", "bridge-piers"]  # report order
+    assert list(merged) == ["hydrostatic", "tidal-bores", "spheric-test2", "wave-flume", "bridge-piers"]
+    assert merged["wave-flume"]["verdict"] == "not yet" and merged["tidal-bores"]["verdict"] == "not run"
+    assert "no saved result yet" in merged["tidal-bores"]["reason"]
     bpm = merged["bridge-piers"]["metrics"]  # compared again from the saved gauge records
     assert merged["bridge-piers"]["verdict"] == "PASS" and len(bpm) == 4 and bpm[0]["lower"] == 0.02
     assert bpm[0]["value"] == pytest.approx(0.07, abs=0.01)

@@ -284,6 +284,16 @@ def merge_reports(sources, out, cases=None, command=None):
                 r.out = out / "figures"
             _compare_again(r)
             merged[r.case] = r
+    from .core import PendingCase
+
+    for r in merged.values():  # saved before its case was built: now a case without a saved result
+        case = VALIDATION_CASES.get(r.case)
+        if r.status == "not yet" and case is not None and not isinstance(case, PendingCase):
+            r.status = "not run"
+            r.title = case.title
+            r.setup, r.reference, r.tolerance = case.setup, case.reference, case.tolerance_text
+            r.reason = (f"no saved result yet (run `shoal validate {r.case}`, then merge it with "
+                        "`shoal validate --report-only --from DIR`)")
     order = list(VALIDATION_CASES)
     results = sorted(merged.values(), key=lambda r: (order.index(r.case) if r.case in order else len(order)))
     modes = {r.quick for r in results if r.status in ("run", "failed")}
