@@ -1,9 +1,10 @@
 """MPI domain decomposition (shoal.parallel, issue 9): halo, migration, and a
 small 3D dam break on 2 ranks against the single-process run.
 
-Skipped when mpi4py is not installed or ``mpiexec`` does not start 2 ranks
-here (``pip install '.[mpi]'`` brings both from wheels). Each rank runs
-with one Numba thread.
+The tests that start ranks are skipped when mpi4py is not installed or
+``mpiexec`` does not start 2 ranks here (``pip install '.[mpi]'`` brings both
+from wheels); the slab cuts, the row packing and the single-process path are
+tested without MPI. Each rank runs with one Numba thread.
 """
 
 from __future__ import annotations
@@ -17,8 +18,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-pytest.importorskip("mpi4py")
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 HERE = Path(__file__).resolve().parent
@@ -44,6 +43,7 @@ def _env():
 
 @pytest.fixture(scope="module")
 def mpiexec():
+    pytest.importorskip("mpi4py")
     cmd = _mpiexec()
     probe = "from mpi4py import MPI; import sys; sys.exit(0 if MPI.COMM_WORLD.Get_size() == 2 else 1)"
     try:
@@ -84,6 +84,24 @@ def test_slab_cuts():
     assert c[1] >= 0.3 - 1e-12
     with pytest.raises(InputError, match="at most 3 ranks"):
         slab_cuts(x, np.ones_like(x), 5, 0.3)
+
+
+def test_pack_unpack_round_trip():
+    """Rows of float64, float32, int8 and int32 arrays travel exactly through the float64 buffer."""
+    from shoal.parallel.halo import columns, pack, unpack
+
+    rng = np.random.default_rng(0)
+    arrays = [rng.normal(size=(50, 3)), rng.normal(size=(50, 2)).astype(np.float32),
+              rng.integers(0, 5, 50).astype(np.int8), rng.integers(0, 2**31 - 1, 50).astype(np.int32),
+              rng.normal(size=50).astype(np.float32)]
+    rows = np.array([3, 7, 7, 49, 0])
+    buf = pack(arrays, rows)
+    assert buf.shape == (5, columns(arrays)) == (5, 8)
+    out = [np.zeros_like(a) for a in arrays]
+    unpack(out, buf, slice(10, 15))
+    unpack(out, buf, np.array([20, 21, 22, 23, 24]))
+    for a, o in zip(arrays, out):
+        assert np.array_equal(o[10:15], a[rows]) and np.array_equal(o[20:25], a[rows])
 
 
 def test_halo_migration_and_rates(mpiexec):
