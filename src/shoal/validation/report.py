@@ -268,6 +268,7 @@ def merge_reports(sources, out, cases=None, command=None):
     merged = {}
     if (out / "results.json").is_file():
         for r in results_from_json(out / "results.json"):
+            _compare_again(r)
             merged[r.case] = r
     for src in sources or []:
         src = Path(src)

@@ -231,8 +231,18 @@ class SphericTest2(ValidationCase):
             label = next(k for k, v in ref["mapping"].items() if v == x)
             t, h = d["gauges"][x]
             e = height_rmse(t, h, ref["t"], ref["heights"][x], 0.0, t1)
+            hs = np.nan_to_num(np.asarray(h, float), nan=0.0)
+            sel = (ref["t"] >= 0.0) & (ref["t"] <= t1)
+            bias = float(np.mean(np.interp(ref["t"][sel], t, hs) - ref["heights"][x][sel]))
+            if x < max(GAUGE_X.values()):  # the first water (> 1 cm) at a gauge downstream of the column
+                wet = np.flatnonzero(hs > 0.01)
+                t_arr = float(t[wet[0]]) if len(wet) else float("nan")
+                arrival = f"water > 1 cm at {t_arr:.2f} s (experiment {ref['arrivals'][label]:.2f} s); "
+            else:
+                arrival = ""
             result.metrics.append(Metric(f"water height at x = {x:g} m (file label {label}), RMSE / H0, "
-                                         f"0 <= t <= {t1:g} s", e, self.tol))
+                                         f"0 <= t <= {t1:g} s", e, self.tol,
+                                         note=f"{arrival}mean h - h_exp = {100 * bias:+.1f} cm"))
         tr, pr = pressure_peak(ref["t"], ref["pressure"]["P1"], 0.0, 1.0, smooth=PEAK_SMOOTH)
         ts, ps = pressure_peak(d["tp"], d["pressure"]["P1"], 0.0, 1.0, smooth=PEAK_SMOOTH)
         result.metrics.append(Metric("P1: time of the first pressure peak (t < 1 s)", ts - tr, self.peak_time_tol,
@@ -245,6 +255,22 @@ class SphericTest2(ValidationCase):
             result.metrics.append(Metric("P3: first pressure peak (for information)", (ps3 - pr3) / pr3, None,
                                          note=f"shoal {ps3:.0f} Pa at {ts3:.3f} s, experiment {pr3:.0f} Pa at "
                                               f"{tr3:.3f} s"))
+        if any(m.passed is False for m in result.metrics if m.name.startswith("water height")):
+            result.notes.append(
+                "What the height FAIL says: the metric notes give the arrival times and the mean offsets. "
+                "A front that arrives late and a layer that stands higher than measured downstream while the "
+                "reservoir drains more slowly are the signature of a flow slowed by the walls; at dp = 0.05 m "
+                "the artificial viscosity (alpha = 0.1) is about alpha h c0 / 8 = 0.05 m^2/s, and it acts between "
+                "the fluid and the dynamic wall particles as a bed friction (the effect the tidal-bore cases "
+                "remove with visco_bound_factor = 0). This run does not separate that from the resolution "
+                "(3-5 particles across the flowing layer); the next checks are visco_bound_factor = 0 and a "
+                "finer dp (GPU).")
+        if any(m.passed is False for m in result.metrics if m.name.startswith("P1")):
+            result.notes.append(
+                "What the P1 FAIL says: the computed impact comes later (with the late front) and as a spike "
+                "one or two samples wide, the acoustic peak of a weakly compressible impact, which a 10 ms mean "
+                "of a 5 ms record barely smooths; its height depends on c0 and on the kernel average over "
+                "2h = 0.17 m, as tall as the box.")
         if d.get("steps"):
             result.notes.append(f"{d['steps']:,} steps" + (f", {d['escaped']} particles left the domain"
                                                            if d.get("escaped") else "") + ".")
