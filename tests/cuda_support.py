@@ -37,8 +37,11 @@ needs_cuda = pytest.mark.skipif(not HAVE_CUDA, reason="needs a GPU or NUMBA_ENAB
                                 "simulator-run test runs it under the simulator in a child process)")
 
 
-def run_module_under_simulator(test_file, runner_name, timeout=900):
-    """Run `test_file` (minus `runner_name`) under the simulator in a child pytest."""
+def run_module_under_simulator(test_file, runner_name, timeout=1800):
+    """Run `test_file` (minus `runner_name`) under the simulator in a child pytest.
+
+    The parity module takes about 8 minutes under the simulator on an idle 2-core machine and over 10
+    when the cores are shared, so the child gets 30 minutes before it counts as failed."""
     if HAVE_CUDA:
         pytest.skip("CUDA (or the simulator) is available here: the tests run in this process")
     import shoal

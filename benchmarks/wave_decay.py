@@ -1,0 +1,161 @@
+"""Numerical damping of a linear standing wave in a periodic 2D channel.
+
+A wave flume's height falls along the flume when the scheme dissipates; this
+script measures that dissipation in isolation, without a paddle, gauges or a
+beach. A periodic channel one wavelength long (L from the linear dispersion
+relation for period T and depth d) over a bed of boundary particles starts
+flat, hydrostatic, with the velocity field of a linear standing wave of
+amplitude a at the instant of zero elevation (Dean & Dalrymple 1991, ch. 4):
+
+    u = a w cosh(k z) / sinh(k d) sin(k x),   w = -a w sinh(k z) / sinh(k d) cos(k x)
+
+(z up from the bed, w = 2 pi / T). Linear theory keeps the wave energy
+E = (1/2) rho g a^2 L per unit width constant (water's viscosity damps it by
+exp(-4 nu k^2 t): 0.01 % per period here). The script records the mechanical
+energy above rest, sum m (|v|^2 / 2 + g z) - E_rest, and fits its decay rate:
+E ~ exp(-2 gamma t), so a progressive wave loses height as exp(-gamma x / c_g)
+over a distance x (c_g the group velocity). It prints gamma, the height lost
+per period and per wavelength of travel, and the measured standing-wave period
+(from the zero crossings of 2 KE - E = E cos(2 w t)) against T.
+
+    python benchmarks/wave_decay.py --dp 0.02 --periods 3 --alpha 0.01
+    python benchmarks/wave_decay.py --dp 0.02 --viscosity laminar --delta 0.1
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+
+def build(dp0, depth, period, amplitude, options):
+    import shoal
+    from shoal.case import Domain
+    from shoal.geometry import Box
+    from shoal.motions import wavenumber
+
+    k = wavenumber(period, depth)
+    L0 = 2 * math.pi / k
+    n = max(8, round(L0 / dp0))
+    dp = L0 / n  # the period holds a whole number of lattice spacings
+    layers = 3
+    case = shoal.Case(
+        name="wave-decay", dim=2, dp=dp, end_time=1.0,
+        fluid=shoal.Fluid(depth=depth, surface_level=depth),
+        options=options,
+        solids=[shoal.Solid(name="bed", shape=Box(lo=(0, 0, -layers * dp), hi=(L0, 0, 0)), layers=layers)],
+        fluids=[shoal.FluidRegion(shape=Box(lo=(0, 0, 0), hi=(L0, 0, depth)))],
+        domain=Domain(lo=(0, 0, -layers * dp), hi=(L0, 0, depth + 0.5 * depth), periodic=["x"]))
+    return case, k, L0, dp
+
+
+def energy(model, g):
+    from shoal.physics.spec import FLUID
+
+    kind = model.host(model.kind)
+    f = kind == FLUID
+    pos = model.host(model.pos)[f]
+    vel = model.host(model.vel)[f].astype(np.float64)
+    m = model.mass if np.ndim(model.mass) == 0 else model.host(model.mass)[f]
+    ke = 0.5 * np.sum(m * np.sum(vel**2, axis=1))
+    pe = np.sum(m * g * pos[:, -1])
+    return ke, pe
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--dp", type=float, default=0.02)
+    p.add_argument("--depth", type=float, default=0.4)
+    p.add_argument("--period", type=float, default=1.2)
+    p.add_argument("--height", type=float, default=0.05, help="standing-wave height 2a at the antinodes [m]")
+    p.add_argument("--periods", type=float, default=3.0)
+    p.add_argument("--kernel", default="wendland")
+    p.add_argument("--viscosity", default="artificial")
+    p.add_argument("--alpha", type=float, default=0.01)
+    p.add_argument("--nu", type=float, default=1e-6)
+    p.add_argument("--density-diffusion", default="fourtakas")
+    p.add_argument("--delta", type=float, default=0.1)
+    p.add_argument("--coef-h", type=float, default=1.0)
+    p.add_argument("--coef-sound", type=float, default=20.0)
+    p.add_argument("--visco-bound-factor", type=float, default=0.0)
+    p.add_argument("--integrator", default="symplectic")
+    p.add_argument("--precision", default="float32")
+    p.add_argument("--csv", help="write the energy series (t, E, KE) here")
+    a = p.parse_args(argv)
+
+    from shoal import SPHOptions
+    from shoal.physics.spec import FLUID
+    from shoal.simulation import Simulation
+
+    opts = SPHOptions(kernel=a.kernel, viscosity=a.viscosity, alpha=a.alpha, nu=a.nu,
+                      density_diffusion=a.density_diffusion, delta=a.delta, coef_h=a.coef_h,
+                      coef_sound=a.coef_sound, visco_bound_factor=a.visco_bound_factor, integrator=a.integrator,
+                      precision=a.precision)
+    amp = 0.5 * a.height
+    case, k, L, dp = build(a.dp, a.depth, a.period, amp, opts)
+    w = 2 * math.pi / a.period
+    end = a.periods * a.period
+    sim = Simulation(case, end_time=end)
+    m = sim.model
+    g = 9.81
+    kind = m.host(m.kind)
+    f = kind == FLUID
+    pos = m.host(m.pos)
+    vel = m.host(m.vel)
+    x, z = pos[f, 0], pos[f, -1]
+    sh = math.sinh(k * a.depth)
+    vel[f, 0] = amp * w * np.cosh(k * z) / sh * np.sin(k * x)
+    vel[f, -1] = -amp * w * np.sinh(k * z) / sh * np.cos(k * x)
+    ke0, pe0 = energy(m, g)
+    # rest energy: the same particles settled flat (the start is flat: its potential energy is the rest one)
+    e_lin = 0.25 * 1000.0 * g * amp**2 * L  # energy of a linear standing wave of amplitude a, per unit width
+    times, es, kes = [0.0], [ke0], [ke0]
+    sample = a.period / 40
+
+    def record(s):
+        ke, pe = energy(s.model, g)
+        times.append(s.time)
+        es.append(ke + pe - pe0)
+        kes.append(ke)
+
+    from shoal.simulation import TimeInterval
+
+    t0 = time.perf_counter()
+    sim.add_callback(record, TimeInterval(sample, start=sample))
+    sim.run()
+    wall = time.perf_counter() - t0
+    t, e, ke = np.array(times), np.array(es), np.array(kes)
+    if a.csv:
+        np.savetxt(a.csv, np.c_[t, e, ke], delimiter=",", header="time,E_above_rest,KE", comments="")
+    # decay rate from a least-squares fit of log E over whole periods after the first quarter period
+    sel = t >= 0.25 * a.period
+    slope = np.polyfit(t[sel], np.log(np.maximum(e[sel], 1e-300)), 1)[0]
+    gamma = -0.5 * slope
+    cg = 0.5 * w / k * (1 + 2 * k * a.depth / math.sinh(2 * k * a.depth))
+    # standing-wave period: 2 KE - E = E cos(2 w t) oscillates about zero with period T/2; its zero
+    # crossings (linearly interpolated) are T/4 apart
+    s_ = 2 * ke - e
+    cross = [t[i] - s_[i] * (t[i + 1] - t[i]) / (s_[i + 1] - s_[i]) for i in range(len(t) - 1)
+             if s_[i] * s_[i + 1] < 0]
+    T_meas = 4 * float(np.mean(np.diff(cross))) if len(cross) >= 2 else float("nan")
+    out = {
+        "dp": dp, "H_over_dp": a.height / dp, "particles": int(m.n), "steps": sim.step_count, "wall_s": round(wall, 1),
+        "options": {k_: getattr(opts, k_) for k_ in ("kernel", "viscosity", "alpha", "nu", "density_diffusion",
+                                                     "delta", "coef_h", "coef_sound", "visco_bound_factor",
+                                                     "integrator", "precision")},
+        "E0_over_linear": float(e[0] / e_lin),  # initial energy (all kinetic) vs linear theory
+        "gamma_per_s": float(gamma),
+        "height_loss_per_period_percent": 100 * (1 - math.exp(-gamma * a.period)),
+        "height_loss_per_wavelength_travelled_percent": 100 * (1 - math.exp(-gamma * L / cg)),
+        "period_measured_s": T_meas, "period_error_percent": 100 * (T_meas / a.period - 1),
+    }
+    print(json.dumps(out, indent=1))
+    return out
+
+
+if __name__ == "__main__":
+    main()
