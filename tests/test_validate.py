@@ -70,8 +70,11 @@ def test_impossible_tolerance_is_a_fail_not_a_crash(tmp_path):
 
 
 def test_a_case_not_built_yet_and_a_missing_long_run_are_reported(tmp_path, monkeypatch):
+    from shoal.validation import PendingCase
+
     monkeypatch.setenv("SHOAL_VALIDATION_DIR", str(tmp_path / "empty"))
-    results = run_validation(["wave-flume", "rip-current", "spheric-test2"], quick=True, out=tmp_path, log=None)
+    pending = PendingCase("future-case", "A case of a later slice", "not yet in this slice of issue 8")
+    results = run_validation([pending, "rip-current", "spheric-test2"], quick=True, out=tmp_path, log=None)
     assert [r.verdict for r in results] == ["not yet", "not run", "not run"]
     assert "full only" in results[2].reason
     md = (tmp_path / "REPORT.md").read_text()
@@ -200,8 +203,12 @@ def test_spheric_comparison_on_the_reference_itself_and_a_bad_record(tmp_path):
     assert next(m for m in bad.metrics if m.name.startswith("P1: time")).passed is False
 
 
-def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
-    from shoal.validation import CaseResult, Metric
+def test_report_only_merges_saved_results_without_running(tmp_path, capsys, monkeypatch):
+    import shoal.validation
+    from shoal.validation import CaseResult, Metric, PendingCase
+
+    monkeypatch.setitem(shoal.validation.VALIDATION_CASES, "future-case",
+                        PendingCase("future-case", "A case of a later slice", "not yet"))
 
     def entry(case, quick, value, folder):
         r = CaseResult(case=case, title=case, quick=quick, out=folder / "figures", setup="s", reference="r",
@@ -216,7 +223,7 @@ def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
         return r
 
     base, a, b = tmp_path / "base", tmp_path / "a", tmp_path / "b"
-    stale = CaseResult(case="wave-flume", status="not yet", reason="not yet")  # still pending: kept
+    stale = CaseResult(case="future-case", status="not yet", reason="not yet")  # still pending: kept
     built = CaseResult(case="tidal-bores", status="not yet", reason="not yet")  # built since: not run
     write_report([entry("hydrostatic", True, 0.05, base), entry("bridge-piers", True, 0.0, base), stale, built],
                  base, True, "cpu", 20)
@@ -227,8 +234,8 @@ def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
     write_report([entry("spheric-test2", False, 0.05, b)], b, False, "cpu", 10)
     assert main(["validate", "--report-only", "--from", str(a), "--from", str(b), "--out", str(base)]) == 0
     merged = {r["case"]: r for r in json.loads((base / "results.json").read_text())}
-    assert list(merged) == ["hydrostatic", "tidal-bores", "spheric-test2", "wave-flume", "bridge-piers"]
-    assert merged["wave-flume"]["verdict"] == "not yet" and merged["tidal-bores"]["verdict"] == "not run"
+    assert list(merged) == ["hydrostatic", "tidal-bores", "spheric-test2", "bridge-piers", "future-case"]
+    assert merged["future-case"]["verdict"] == "not yet" and merged["tidal-bores"]["verdict"] == "not run"
     assert "no saved result yet" in merged["tidal-bores"]["reason"]
     bpm = merged["bridge-piers"]["metrics"]  # compared again from the saved gauge records
     assert merged["bridge-piers"]["verdict"] == "PASS" and len(bpm) == 4 and bpm[0]["lower"] == 0.02
@@ -242,3 +249,28 @@ def test_report_only_merges_saved_results_without_running(tmp_path, capsys):
     assert main(["validate", "--from", str(a), "--out", str(base)]) == 2
     assert main(["validate", "--report-only", "--from", str(tmp_path / "none"), "--out", str(base)]) == 2
     assert capsys.readouterr().err.count("shoal: error:") == 2
+
+
+@pytest.mark.parametrize("scale,passed", [(1.0, True), (0.9, False)])
+def test_wave_flume_comparison_on_synthetic_records(tmp_path, scale, passed):
+    import math
+
+    from shoal.motions import wavenumber
+    from shoal.validation.wave_flume import WaveFlume
+
+    case = WaveFlume()
+    p = case.params(True)
+    T, d, H = p["period"], p["depth"], p["wave_height"]
+    k = wavenumber(T, d)
+    w, c = 2 * math.pi / T, 2 * math.pi / T / k
+    t = np.arange(0.0, 12.0, T / 40)
+    records = {x: (t, d + scale * 0.5 * H * np.sin(w * (t - x / c))) for x in (1.0, 2.0, 3.0)}
+    res = case.new_result(True, "cpu", tmp_path)
+    res.data = dict(records=records, windows={x: (2.0 + x, 2.0 + x + 4 * T) for x in records}, k=k, cg=1.1,
+                    steps=1, stroke=0.05, **p)
+    figs, ok = case.compare(res)
+    assert ok is passed, [(m.name, m.value) for m in res.metrics]
+    heights = [m for m in res.metrics if m.name.startswith("wave height")]
+    assert len(heights) == 3 and all(abs(m.value - (scale - 1)) < 4e-3 for m in heights)
+    assert all(m.passed for m in res.metrics if not m.name.startswith("wave height"))  # period, speed exact
+    assert figs[0].is_file() and figs[0].stat().st_size < 100_000

@@ -28,12 +28,12 @@ from .poiseuille import Poiseuille
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .spheric_test2 import SphericTest2
+from .wave_flume import WaveFlume
 
 __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", "CaseResult", "Metric",
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
-           "ResolutionStudy", "SphericTest2", "BridgePiers", "PendingCase", "find_validation_dir"]
+           "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PendingCase", "find_validation_dir"]
 
-_NOT_YET = "not yet in this slice of issue 8"
 
 
 def _all_cases():
@@ -46,8 +46,7 @@ def _all_cases():
         ResolutionStudy(),
         RipCurrent(),
         SphericTest2(),
-        PendingCase("wave-flume", "Piston wavemaker vs Biesel and linear dispersion (wave-flume-2d)",
-                    _NOT_YET),
+        WaveFlume(),
         BridgePiers(),
     ]
 
