@@ -194,6 +194,12 @@ def save_png(fig, path, max_bytes=MAX_PNG_BYTES):
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
     fig.savefig(path, format="png")
+    return shrink_png(path, max_bytes)
+
+
+def shrink_png(path, max_bytes=MAX_PNG_BYTES):
+    """Re-save the PNG at `path` with a 256-colour palette if it is over `max_bytes`; returns `path`."""
+    path = Path(path)
     if path.stat().st_size > max_bytes:
         from PIL import Image
 

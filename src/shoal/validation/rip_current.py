@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 import math
 
-from .core import Metric, ValidationCase, find_validation_dir
+from .core import Metric, ValidationCase, find_validation_dir, shrink_png
 
 
 class RipCurrent(ValidationCase):
@@ -74,9 +74,22 @@ class RipCurrent(ValidationCase):
         for name in (r.get("pngs") or {}):
             p = folder / name
             if p.is_file():
-                figs.append(p)
+                figs.append(_copy_png(p, result.out / f"rip-current_{name}"))
         if not result.metrics:
             result.reason = "results.json holds no checks"
             return figs, False
         return figs, all(m.passed for m in result.metrics)
 
+
+
+
+def _copy_png(src, dst):
+    """Copy the analysis' PNG `src` beside the report's other figures (named after the case, so
+    ``--report-only`` carries it along), palette-reduced if it is large."""
+    import shutil
+    from pathlib import Path
+
+    dst = Path(dst)
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy2(src, dst)
+    return shrink_png(dst)
