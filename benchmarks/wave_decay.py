@@ -83,6 +83,7 @@ def main(argv=None):
     p.add_argument("--coef-sound", type=float, default=20.0)
     p.add_argument("--visco-bound-factor", type=float, default=0.0)
     p.add_argument("--integrator", default="symplectic")
+    p.add_argument("--cfl", type=float, default=0.2)
     p.add_argument("--precision", default="float32")
     p.add_argument("--csv", help="write the energy series (t, E, KE) here")
     a = p.parse_args(argv)
@@ -94,7 +95,7 @@ def main(argv=None):
     opts = SPHOptions(kernel=a.kernel, viscosity=a.viscosity, alpha=a.alpha, nu=a.nu,
                       density_diffusion=a.density_diffusion, delta=a.delta, coef_h=a.coef_h,
                       coef_sound=a.coef_sound, visco_bound_factor=a.visco_bound_factor, integrator=a.integrator,
-                      precision=a.precision)
+                      cfl=a.cfl, precision=a.precision)
     amp = 0.5 * a.height
     case, k, L, dp = build(a.dp, a.depth, a.period, amp, opts)
     w = 2 * math.pi / a.period
@@ -153,7 +154,7 @@ def main(argv=None):
         "dp": dp, "H_over_dp": a.height / dp, "particles": int(m.n), "steps": sim.step_count, "wall_s": round(wall, 1),
         "options": {k_: getattr(opts, k_) for k_ in ("kernel", "viscosity", "alpha", "nu", "density_diffusion",
                                                      "delta", "coef_h", "coef_sound", "visco_bound_factor",
-                                                     "integrator", "precision")},
+                                                     "integrator", "cfl", "precision")},
         "E0_over_linear": float(e[0] / e_lin),  # initial energy (all kinetic) vs linear theory
         "gamma_per_s": float(gamma),
         "height_loss_per_period_percent": 100 * (1 - math.exp(-gamma * a.period)),
