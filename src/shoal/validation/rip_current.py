@@ -81,8 +81,6 @@ class RipCurrent(ValidationCase):
         return figs, all(m.passed for m in result.metrics)
 
 
-
-
 def _copy_png(src, dst):
     """Copy the analysis' PNG `src` beside the report's other figures (named after the case, so
     ``--report-only`` carries it along), palette-reduced if it is large."""

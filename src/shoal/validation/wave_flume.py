@@ -123,9 +123,6 @@ class WaveFlume(ValidationCase):
         metrics.append(Metric(f"phase speed between x = {x0:g} and {x1:g} m vs linear c = L/T = {c_lin:.3f} m/s",
                               c / c_lin - 1, self.c_tol,
                               note=f"c = {c:.3f} m/s, i.e. L = cT = {c * T:.3f} m vs {2 * math.pi / k:.3f} m"))
-        for m in metrics:
-            if m.tolerance is not None:
-                m.passed = bool(math.isfinite(m.value) and abs(m.value) <= m.tolerance)
         result.metrics = metrics
         result.notes.append(f"{d['steps']:,} steps; paddle stroke S = {d['stroke']:.4f} m; group velocity "
                             f"{d['cg']:.3f} m/s sets each gauge's window.")
