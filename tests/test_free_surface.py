@@ -21,27 +21,94 @@ def _flags(model):
     return out
 
 
+def _precision_recall(flags, truth):
+    hit = np.sum(flags & truth)
+    return hit / max(np.sum(flags), 1), hit / max(np.sum(truth), 1)
+
+
 @pytest.mark.parametrize("dim", [2, 3])
 def test_still_water_surface_is_its_top_layer(dim):
-    """In a tank (dynamic walls) only top-layer fluid particles are flagged -- none against the bed
-    or the side walls below the surface, none inside -- and all of the top layer but the contact
-    line: a top particle next to a side wall sees the wall particles rising above the water
-    within the wider cone (pi/4) used near walls and may go either way."""
+    """In a tank (dynamic walls) the flagged particles are exactly the top layer, contact line
+    included: none against the bed or the side walls below the surface, none inside (issue 6:
+    precision and recall >= 0.98 on a lattice; measured 1 and 1). The walls rising above the water
+    are dry there and left out of the test; before, they tilted the contact-line particles'
+    normals and 64 of 100 top particles were flagged in 3D."""
     case = still_water_2d(dp=0.02, depth=0.3, length=0.6) if dim == 2 else still_water_3d(
         dp=0.04, depth=0.3, length=0.4, width=0.4)
     m = build_model(case)
-    f = _flags(m)
+    f = _flags(m).astype(bool)
     p = case.particles()
     fluid = p.kinds == 0
     top = fluid & np.isclose(p.positions[:, 2], p.positions[fluid, 2].max())
-    f = f.astype(bool)
-    assert not np.any(f & ~top)
-    lo, hi = p.positions[fluid].min(0), p.positions[fluid].max(0)
-    axes = [0, 1] if dim == 3 else [0]
-    away = np.all((p.positions[:, axes] > lo[axes] + 0.5 * case.dp) & (p.positions[:, axes] < hi[axes] - 0.5 * case.dp),
-                  axis=1)
-    assert np.all(f[top & away])
-    print(f"{dim}D: {int(f.sum())} flagged of {int(top.sum())} top-layer particles")
+    precision, recall = _precision_recall(f, top)
+    print(f"{dim}D lattice: {int(f.sum())} flagged of {int(top.sum())} top-layer particles; "
+          f"precision {precision:.3f}, recall {recall:.3f}")
+    assert precision >= 0.98 and recall >= 0.98
+
+
+def _outer_layer(model, dp, lo, hi):
+    """Fluid particles facing air (outer) and those far from it (deep).
+
+    Air: the nodes of a dp/4 lattice over the box [lo, hi] (x-z, or x-y-z) farther than 1.25 dp from
+    every particle, fluid or wall (so neither the gap between the fluid and a particle wall nor a
+    hole in a disordered flow counts as air). Measured on a settled tank and a dam break: the
+    particles the cone test flags lie 1.25-2.1 dp from air, the layer below a flat surface 1.5-1.75
+    dp. Outer: within 1.45 dp of air; deep: farther than 2.5 dp."""
+    from scipy.spatial import cKDTree
+
+    pos = model.host(model.pos).astype(float)
+    fluid = model.host(model.kind) == 0
+    axes = [np.arange(a, b + 1e-9, dp / 4) for a, b in zip(lo, hi)]
+    nodes = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, len(axes))
+    d_all, _ = cKDTree(pos).query(nodes)
+    d_air, _ = cKDTree(nodes[d_all > 1.25 * dp]).query(pos)
+    return fluid & (d_air <= 1.45 * dp), fluid & (d_air > 2.5 * dp)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_settled_still_water_surface(dim):
+    """After 0.3 s of settling (about ten acoustic crossings of the depth) the flags are the layer
+    facing the air: precision and recall >= 0.95 (issue 6), no deep particle flagged."""
+    from shoal.simulation import Simulation
+
+    case = still_water_2d(dp=0.02, depth=0.3, length=0.6) if dim == 2 else still_water_3d(
+        dp=0.04, depth=0.3, length=0.4, width=0.4)
+    m = build_model(case)
+    Simulation(m, 0.3).run()
+    m.sort()
+    f = m.free_surface().astype(bool)
+    pos = m.host(m.pos)
+    outer, deep = _outer_layer(m, case.dp, pos.min(0) - case.dp, pos.max(0) + 3 * case.dp)
+    precision, recall = _precision_recall(f, outer)
+    print(f"{dim}D settled: {int(f.sum())} flagged, {int(outer.sum())} facing air; "
+          f"precision {precision:.3f}, recall {recall:.3f}")
+    assert precision >= 0.95 and recall >= 0.95
+    assert not np.any(f & deep)
+
+
+def test_dam_break_surge_surface():
+    """A 2D dam break at t = 0.3 s (the surge has run along the bed past x = 2a): the particles
+    facing air -- the column's falling top, its face and the surge's upper side -- are flagged
+    (recall >= 0.95), and none deep inside is (issue 6: "flags the surface of the surge")."""
+    from shoal.cases import dam_break_2d
+    from shoal.simulation import Simulation
+
+    a = 0.146
+    dp = a / 24  # at a / 12 the tip of the two-particle-thick surge is ambiguous (recall 0.93)
+    case = dam_break_2d(dp=dp, a=a, layers=3)
+    m = build_model(case)
+    Simulation(m, 0.3).run()
+    m.sort()
+    f = m.free_surface().astype(bool)
+    pos = m.host(m.pos)
+    fluid = m.host(m.kind) == 0
+    assert pos[fluid, 0].max() > 2 * a  # the surge is out
+    outer, deep = _outer_layer(m, dp, pos.min(0) - dp, pos.max(0) + dp)
+    precision, recall = _precision_recall(f, outer)
+    print(f"dam break t = 0.3 s: {int(f.sum())} flagged, {int(outer.sum())} facing air; "
+          f"recall {recall:.3f}, precision {precision:.3f}, deep flagged {int(np.sum(f & deep))}")
+    assert recall >= 0.95
+    assert not np.any(f & deep)
 
 
 def test_drop_surface_is_its_outer_ring():

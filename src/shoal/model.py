@@ -285,8 +285,11 @@ class Model:
         al. 2010 as in the rip-current paper, `shoal.probes.free_surface`), else 0."""
         b = self.backend
         out = self.scratch[(np.dtype(np.int8).str, 0)]
-        b.timed(b.free_surface, self.n, (self.pos, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
-                                         self.grid.gdims_arr, self.P, self.planes, out))
+        wet = self.scratch[(np.dtype(np.int32).str, 0)]  # free between sorts
+        g = self.grid
+        b.timed(b.wet_walls, self.n, (self.pos, self.kind, g.cell, g.cell_start, g.gdims_arr, self.P, wet))
+        b.timed(b.free_surface, self.n, (self.pos, self.rho, self.kind, g.cell, g.cell_start,
+                                         g.gdims_arr, self.P, self.planes, wet, out))
         return self.host(out).copy()
 
     def apply_damping(self, zones, dt):

@@ -92,8 +92,9 @@ def build_physics(jit, spec, target="cpu"):
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     from ..probes.free_surface import make_free_surface
 
-    free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
+    wet_walls, free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
-                           particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity, probe=probe, free_surface=free_surface, named_jit=j,
+                           particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity, probe=probe, free_surface=free_surface, wet_walls=wet_walls,
+                           named_jit=j,
                            unpack=unpack)

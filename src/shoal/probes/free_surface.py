@@ -14,14 +14,26 @@ paper applies it in GPUSPH.
    the cone opens to pi/4, as wall particles sit on a coarser, offset
    pattern.
 A particle without any neighbour is a surface particle (a spray drop).
+
+Dry wall particles -- those of a wall rising above the water, with no fluid
+particle within 2h at their own height or above (higher than 0.35 h below
+them, "height" against gravity) -- take part in neither sum. Marrone et al.'s
+walls are mirror images of the fluid, so above the water they have none; a
+particle wall does, and at the contact line those particles tilt the normal
+towards the air by 45 degrees and stand at the edge of the wider cone, so the
+top particle next to a side wall went either way (64 of the 100 top particles
+of a 3D tank were flagged before this).
 """
 
 from ..physics.spec import FLUID
 
 
 def make_free_surface(jit, spec, kernels, make_gather, unpack):
-    """Return ``free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, out)``:
-    out[i] = 1 for a free-surface fluid particle, else 0."""
+    """Return ``(wet_walls, free_surface)``:
+    ``wet_walls(i, pos, kind, cell, cell_start, grid_dims, Parr, wet)`` sets wet[i] = 1 for a fluid
+    particle and for a boundary particle with a fluid neighbour within 2h not lower than 0.35 h below
+    it, else 0; ``free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, wet, out)``:
+    out[i] = 1 for a free-surface fluid particle, else 0 (dry boundary particles ignored)."""
     F = spec.float_type
     dim = spec.dim
     zero, one = F(0.0), F(1.0)
@@ -30,9 +42,36 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
     _, grad_factor = kernels
 
     @jit
+    def wet_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
+        ux, uy, uz, lim = own
+        kind = data
+        # (dx, dy, dz) = r_i - r_j: j is not lower than lim below i when (r_j - r_i) . up >= -lim
+        return acc or (kind[j] == FLUID and ux * dx + uy * dy + uz * dz <= lim)
+
+    gather_wet = make_gather(jit, spec, wet_pair)
+
+    @jit
+    def wet_walls(i, pos, kind, cell, cell_start, grid_dims, Parr, wet):
+        P = unpack(Parr)
+        if kind[i] == FLUID:
+            wet[i] = 1
+            return
+        g2 = P.gx * P.gx + P.gy * P.gy + P.gz * P.gz
+        if g2 == zero:
+            wet[i] = 1  # no "up" without gravity: every wall counts
+            return
+        inv = one / g2 ** F(0.5)
+        up = (-P.gx * inv, -P.gy * inv, -P.gz * inv)
+        gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
+        w = gather_wet(i, (up[0], up[1], up[2], F(0.35) * P.h), False, pos, cell, cell_start, gdims, kind, P)
+        wet[i] = 1 if w else 0
+
+    @jit
     def grad_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         gx, gy, gz, nb, nbound = acc
-        rho, kind = data
+        rho, kind, wet = data
+        if wet[j] == 0:
+            return acc
         fr = grad_factor(r2 ** F(0.5) * P.inv_h, P)
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         v = mj / rho[j] * fr
@@ -41,6 +80,9 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
     @jit
     def cone_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         nx, ny, nz, cmin = own
+        rho, kind, wet = data
+        if wet[j] == 0:
+            return acc
         # r_j - r_i = -(dx, dy, dz)
         c = -(nx * dx + ny * dy + nz * dz) / r2 ** F(0.5)
         return acc or c > cmin
@@ -49,13 +91,13 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
     gather_cone = make_gather(jit, spec, cone_pair)
 
     @jit
-    def free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, out):
+    def free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, wet, out):
         P = unpack(Parr)
         out[i] = 0
         if kind[i] != FLUID:
             return
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
-        data = (rho, kind)
+        data = (rho, kind, wet)
         gx, gy, gz, nb, nbound = gather_grad(i, 0, (zero, zero, zero, 0, 0), pos, cell, cell_start, gdims,
                                              data, P)
         if nb == 0:
@@ -87,4 +129,4 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
         if not covered:
             out[i] = 1
 
-    return free_surface
+    return wet_walls, free_surface
