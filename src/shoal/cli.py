@@ -335,7 +335,8 @@ def cmd_validate(args):
     check_backend(args.backend)
     command = "shoal validate " + " ".join([*args.cases, "--full" if args.full else "--quick",
                                             *(["--backend", args.backend] if args.backend != "cpu" else [])])
-    results = run_validation(cases, quick=not args.full, backend=args.backend, out=args.out, command=command)
+    results = run_validation(cases if args.cases else None, quick=not args.full, backend=args.backend, out=args.out,
+                             command=command)
     failed = [r.case for r in results if r.verdict == "FAIL"]
     print(f"shoal: validation report in {Path(args.out) / 'REPORT.md'} (and REPORT.html); "
           + ", ".join(f"{r.case} {r.verdict}" for r in results))

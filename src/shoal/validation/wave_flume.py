@@ -39,7 +39,7 @@ class WaveFlume(ValidationCase):
 
     name = "wave-flume"
     title = "Piston wavemaker vs Biesel and linear dispersion (wave-flume-2d)"
-    cost = 600.0
+    cost = 1560.0  # measured 26 min (one thread, the other core busy)
     setup = ("`wave-flume-2d`: a piston paddle at x = 0 driven as X(t) = r(t) (S/2) sin(omega t) with the "
              "stroke S from Biesel's transfer function for the target height H, a cosine ramp r(t) over 2 "
              "periods, water of depth d = 0.4 m, a damping zone (`[[damping]]`, rate 10 1/s) from 4.5 m to "
