@@ -136,7 +136,10 @@ class ValidationCase:
         Markdown for the report: the set-up, the reference data (with its source) and the
         tolerance with its justification.
     cost : float
-        Rough quick-mode run time on 2 cores [s] (the CI test picks the cheapest).
+        Rough quick-mode run time on 2 cores [s] (the CI test picks the cheapest; over
+        `QUICK_SET_LIMIT`, the case is left out of the default quick set).
+    full_only : bool
+        The case runs only with ``--full`` (its quick mode reports "not run" with the reason).
     """
 
     name = ""
@@ -145,6 +148,7 @@ class ValidationCase:
     reference = ""
     tolerance_text = ""
     cost = 60.0
+    full_only = False
 
     def new_result(self, quick, backend, out):
         out = Path(out)

@@ -134,6 +134,7 @@ class SphericTest2(ValidationCase):
     name = "spheric-test2"
     title = "3D dam break with a box (SPHERIC Test 2, Kleefsman et al. 2005)"
     cost = 2400.0
+    full_only = True
     setup = ("Tank 3.22 x 1 x 1 m (open roof); water column x = 1.992-3.22 m, 0.55 m deep, the full width; "
              "box 0.161 x 0.403 x 0.161 m at x = 0.6635-0.8245, y = 0.2955-0.6985 m. Built with the Python API "
              "(`shoal.validation.spheric_test2.spheric_test2_case`), the default scheme (Wendland, alpha = 0.1, "
