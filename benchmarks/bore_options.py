@@ -57,4 +57,10 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    from shoal.errors import InputError
+
+    try:
+        main()
+    except (InputError, json.JSONDecodeError, TypeError) as err:
+        print(f"bore_options.py: {err}", file=sys.stderr)
+        sys.exit(2)
