@@ -8,7 +8,17 @@ Reference: linear wavemaker theory (Biesel & Suquet 1951; Dean & Dalrymple
 1991, ch. 6) -- the wave height measured in the flume against the target
 height (with probes, see the probes issue).
 
-Run time on 2 cores: `wave-flume-2d` at its default dp = 0.01 m (34,568
+The scheme (`WAVE_OPTIONS`, unless `options` is given): the laminar viscosity of
+water with no artificial viscosity and free-slip walls for the viscous term (linear
+wave theory has no viscosity and no bed friction), and a wider kernel than
+the default, h = 2.1 dp (coef_h = 1.5 in 2D, 1.2 in 3D): with h = 1.41 dp a
+2D Wendland kernel damps a wave by 7.5 % of its height per wavelength and
+runs it 4.6 % fast, with 2.1 dp by 1.1 % (0.6 % at twice the resolution) and
+0.3 % (`benchmarks/wave_decay.py`, 2D; the 3D kernel is set to the same h/dp,
+not measured separately).
+
+Run time on 2 cores (with coef_h = 1; the wider kernel has about twice the
+neighbours): `wave-flume-2d` at its default dp = 0.01 m (34,568
 particles) simulates about 0.26 s of flow per minute (measured: 0.3 s in
 70 s, 2.1e6 particle-steps/s), so its 10 s take about 40 minutes;
 `wave-flume-3d` at dp = 0.02 m (325,053 particles) is a GPU run.
@@ -22,6 +32,10 @@ from ..motions import PistonWavemaker
 from ..options import SPHOptions
 from ..probes import WaveGauge
 from ._checks import check_count, check_dp, check_positive
+
+WAVE_OPTIONS = {2: dict(viscosity="laminar", nu=1e-6, visco_bound_factor=0.0, coef_h=1.5),
+                3: dict(viscosity="laminar", nu=1e-6, visco_bound_factor=0.0, coef_h=1.2)}
+"""Default scheme options of the wave flumes, by dimension (see the module docstring)."""
 
 
 def _flume(dim, dp, depth, length, beach_slope, width, wave_height, period, ramp_periods, end_time,
@@ -53,7 +67,7 @@ def _flume(dim, dp, depth, length, beach_slope, width, wave_height, period, ramp
     return Case(name=name, dim=dim, dp=float(dp), end_time=float(end_time),
                 description=f"{dim}D wave flume: piston waves H = {wave_height:g} m, T = {period:g} s in "
                             f"d = {depth:g} m on a 1:{1 / beach_slope:.3g} beach (Biesel piston theory)",
-                fluid=Fluid(depth=depth, surface_level=depth), options=options or SPHOptions(),
+                fluid=Fluid(depth=depth, surface_level=depth), options=options or SPHOptions(**WAVE_OPTIONS[dim]),
                 solids=solids, fluids=fluids, motions=[piston], probes=probes,
                 output=Output(interval=float(output_interval)),
                 parameters=dict(dp=dp, depth=depth, length=length, beach_slope=beach_slope, width=width,

@@ -77,6 +77,7 @@ class WaveFlume(ValidationCase):
         import shoal
         from ..case import DampingZone
         from ..cases import wave_flume_2d
+        from ..cases.wave_flume import WAVE_OPTIONS
         from ..motions import wavenumber
         from ..options import SPHOptions
 
@@ -90,8 +91,8 @@ class WaveFlume(ValidationCase):
         ramp = 2.0
         windows = {x: (x / cg + (ramp + 1) * T, x / cg + (ramp + 5) * T) for x in gauges}
         end_time = max(b for _, b in windows.values()) + 0.1
-        opts = SPHOptions(viscosity="laminar", nu=1e-6, visco_bound_factor=0.0, kernel=self.kernel,
-                          coef_h=self.coef_h)
+        # the flume's own scheme (`shoal.cases.wave_flume.WAVE_OPTIONS`), with this case's kernel and h
+        opts = SPHOptions(**{**WAVE_OPTIONS[2], "kernel": self.kernel, "coef_h": self.coef_h})
         case = wave_flume_2d(dp=p["dp"], depth=d, wave_height=H, period=T, ramp_periods=ramp,
                              end_time=end_time, output_interval=end_time, gauges_x=gauges, options=opts)
         case = case.model_copy(update={"damping": [DampingZone(start=(4.5, 0, 0), end=(6.0, 0, 0), rate=10.0)]})
