@@ -27,6 +27,18 @@ import os
 # loaded (the first parallel loop); a value in the environment wins.
 os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
+# Under pytest-xdist each worker keeps its own Numba cache: Numba's on-disk
+# cache is not safe for two processes compiling the same functions at once
+# (an index written by one can name a data file the other has just replaced;
+# seen here: a worker segfaulted in compute_rates). Set before Numba is
+# imported (below, through shoal); a cache directory in the environment wins.
+if os.environ.get("PYTEST_XDIST_WORKER") and "NUMBA_CACHE_DIR" not in os.environ:
+    import tempfile
+
+    _uid = os.getuid() if hasattr(os, "getuid") else "user"
+    os.environ["NUMBA_CACHE_DIR"] = os.path.join(
+        tempfile.gettempdir(), f"shoal-numba-cache-{_uid}-{os.environ['PYTEST_XDIST_WORKER']}")
+
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
