@@ -109,6 +109,21 @@ def mode_projection(model, k, depth):
     return float(c), float(0.5 * c * c * norm)
 
 
+def _peaks(t, y):
+    """t = 0 and the maxima of y(t), each refined by a parabola through its three samples."""
+    from scipy.signal import find_peaks
+
+    dt_s = t[1] - t[0]
+    tp, vp = [0.0], [y[0]]
+    for i in find_peaks(y)[0]:
+        if 0 < i < len(t) - 1:
+            y0, y1, y2 = y[i - 1:i + 2]
+            shift = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
+            tp.append(t[i] + shift * dt_s)
+            vp.append(y1 - 0.25 * (y0 - y2) * shift)
+    return np.array(tp), np.array(vp)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--dp", type=float, default=0.02)
@@ -211,26 +226,9 @@ def main(argv=None):
     # T/2: its maxima (refined by a parabola through the three samples around each) decay as
     # exp(-2 gamma t). The total E above the flat start is printed for information only: its potential
     # part also sees the whole column settle (1e-5 m of settling is 3 % of E at dp = 0.01 m).
-    from scipy.signal import find_peaks
-
-    dt_s = t[1] - t[0]
-    tp, vp = [0.0], [ke[0]]
-    for i in find_peaks(ke)[0]:
-        if 0 < i < len(t) - 1:
-            y0, y1, y2 = ke[i - 1:i + 2]
-            shift = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
-            tp.append(t[i] + shift * dt_s)
-            vp.append(y1 - 0.25 * (y0 - y2) * shift)
-    tp, vp = np.array(tp), np.array(vp)
+    tp, vp = _peaks(t, ke)
     # the same for the standing-wave mode's own kinetic energy (the projection): what the wave keeps
-    tm, vm = [0.0], [kem[0]]
-    for i in find_peaks(kem)[0]:
-        if 0 < i < len(t) - 1:
-            y0, y1, y2 = kem[i - 1:i + 2]
-            shift = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
-            tm.append(t[i] + shift * dt_s)
-            vm.append(y1 - 0.25 * (y0 - y2) * shift)
-    tm, vm = np.array(tm), np.array(vm)
+    tm, vm = _peaks(t, kem)
     gamma_m = -0.5 * np.polyfit(tm, np.log(vm), 1)[0] if len(tm) >= 3 else float("nan")
     gamma = -0.5 * np.polyfit(tp, np.log(vp), 1)[0] if len(tp) >= 3 else float("nan")
     T_meas = 2 * float(np.mean(np.diff(tp))) if len(tp) >= 3 else float("nan")
