@@ -1,4 +1,4 @@
-"""MPI domain decomposition (issue 9, first slice): slabs along x, halos, migration.
+"""MPI domain decomposition (issue 9): slabs along x, halos, migration, load balancing.
 
 Under ``mpiexec -n N`` (N > 1) `build_model` returns a `DistributedModel`
 holding this rank's slab of particles plus a halo of ghost copies of the
@@ -6,11 +6,13 @@ neighbour ranks' particles, and `run_case` runs `run.run_case_mpi`. Outside
 MPI nothing here is imported beyond this module, and `world()` only reads
 the environment: the single-process path is unchanged.
 
-- `decomposition`: slab cuts from the particles' x coordinates (weighted counts).
+- `decomposition`: slab cuts from the particles' x coordinates (weighted counts), at
+  the start from the whole set and during a run (load balancing) from the ranks' slabs.
 - `halo`: the exchange with the left and right neighbour ranks (mpi4py
   buffers, ``Sendrecv``) and the packing of particle rows.
 - `model`: `DistributedModel`, the Model whose ``sort`` drops the old ghosts,
-  migrates particles that left the slab, receives a fresh halo and re-sorts;
+  migrates particles that left the slab, re-cuts the slabs when the load is
+  unbalanced (on a schedule), receives a fresh halo and re-sorts;
   ``compute_rates`` refreshes the halo values first (every stage of every
   integrator); the time step is an MPI min.
 - `run`: `run_case_mpi`, the run with rank-0 output (gathered snapshots,

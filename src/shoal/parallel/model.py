@@ -29,6 +29,19 @@ from their owners (rows recorded at the sort), then the usual rates. The
 time step is the min over ranks (``Allreduce``). Mass is exact: particles
 have fixed mass and each is owned by exactly one rank.
 
+Load balancing. Every `rebalance_interval` steps (at the sort) the ranks
+compare their weighted counts (fluid 1, wall 0.25); when max / mean exceeds
+`rebalance_threshold`, the cuts move to the weighted quantiles of the
+particles' current x (`decomposition.distributed_cuts`, the start's cut code
+run on the ranks' slabs: a few numbers per rank travel, no particles) and
+the particles migrate to their new owners (several hops if a cut moved past
+a neighbour's slab) before the fresh halo is fetched; the physics is
+unchanged (a particle's rates do not depend on which rank owns it). Defaults: every 20
+steps, threshold 1.1; the environment variables
+``SHOAL_MPI_REBALANCE_INTERVAL`` (0: never) and
+``SHOAL_MPI_REBALANCE_THRESHOLD`` set them for ``shoal run``, the keyword
+arguments for the Python API. Each re-cut is recorded in ``rebalances``.
+
 Outputs: ``world_positions``, ``fields`` etc. give the owned particles;
 ``sample`` (probes, gauges) gives every rank the same values: each point is
 evaluated by the rank whose slab holds it (whose halo covers its support),
@@ -46,9 +59,55 @@ from ..errors import InputError, InstabilityError
 from ..model import Model
 from ..physics.spec import FLUID
 from . import halo as _halo
-from .decomposition import slab_cuts
+from .decomposition import distributed_cuts, imbalance, slab_cuts, weighted_counts
 
 BOUNDARY_WEIGHT = 0.25
+REBALANCE_INTERVAL = 20
+REBALANCE_THRESHOLD = 1.1
+
+
+def rebalance_settings(interval=None, threshold=None, environ=None):
+    """(interval, threshold) of the load balancing: the arguments, else the
+    environment (``SHOAL_MPI_REBALANCE_INTERVAL``, ``SHOAL_MPI_REBALANCE_THRESHOLD``),
+    else the defaults (20 steps, 1.1).
+
+    Parameters
+    ----------
+    interval : int, optional
+        Steps between balance checks; 0 turns load balancing off.
+    threshold : float, optional
+        Re-cut when the ranks' max / mean weighted count exceeds it (>= 1).
+    environ : mapping, optional
+        Where to read the variables (default: ``os.environ``).
+
+    Raises
+    ------
+    InputError
+        A value that is not an integer >= 0 / a number >= 1.
+    """
+    import math
+    import os
+
+    env = os.environ if environ is None else environ
+    if interval is None:
+        text = env.get("SHOAL_MPI_REBALANCE_INTERVAL", "").strip()
+        try:
+            interval = int(text) if text else REBALANCE_INTERVAL
+        except ValueError:
+            raise InputError(f"SHOAL_MPI_REBALANCE_INTERVAL = {text!r}: give a whole number of steps >= 0 "
+                             "(0: no load balancing)") from None
+    if threshold is None:
+        text = env.get("SHOAL_MPI_REBALANCE_THRESHOLD", "").strip()
+        try:
+            threshold = float(text) if text else REBALANCE_THRESHOLD
+        except ValueError:
+            raise InputError(f"SHOAL_MPI_REBALANCE_THRESHOLD = {text!r}: give a number >= 1 (the max / mean "
+                             "weighted particle count that triggers a re-cut)") from None
+    if isinstance(interval, bool) or int(interval) != interval or interval < 0:
+        raise InputError(f"rebalance interval {interval!r}: give a whole number of steps >= 0 (0: no load balancing)")
+    if not (math.isfinite(float(threshold)) and float(threshold) >= 1.0):
+        raise InputError(f"rebalance threshold {threshold!r}: give a number >= 1 (max / mean weighted particle count)")
+    return int(interval), float(threshold)
 
 
 class CollectiveError(InstabilityError):
@@ -61,13 +120,27 @@ class DistributedModel(Model):
     """A Model holding one MPI rank's slab (see the module docstring).
 
     Built like a `Model` from the whole particle set (every rank generates
-    it), it keeps the rank's slab and shrinks its arrays; ``comm`` defaults
-    to ``shoal.parallel.world()``.
+    it), it keeps the rank's slab and shrinks its arrays.
+
+    Parameters
+    ----------
+    positions, kinds, **kw
+        As for `Model` (the whole particle set).
+    comm : mpi4py communicator, optional
+        Default ``shoal.parallel.world()``.
+    cuts : sequence of float, optional
+        The nranks - 1 inner slab bounds along x [m] to start from (default:
+        the weighted quantiles, `slab_cuts`); load balancing moves them.
+    rebalance_interval, rebalance_threshold : optional
+        Load balancing (see the module docstring and `rebalance_settings`).
     """
 
-    def __init__(self, positions, kinds, *, comm=None, **kw):
+    def __init__(self, positions, kinds, *, comm=None, cuts=None, rebalance_interval=None,
+                 rebalance_threshold=None, **kw):
         from . import world
 
+        self.rebalance_interval, self.rebalance_threshold = rebalance_settings(rebalance_interval,
+                                                                               rebalance_threshold)
         super().__init__(positions, kinds, **kw)
         self.comm = comm if comm is not None else world()
         if self.comm is None:
@@ -82,7 +155,16 @@ class DistributedModel(Model):
         self.halo_width = (4.0 if wide else 2.0) * self.h + 0.25 * self.h
         kinds = np.asarray(kinds)
         weights = np.where(kinds == FLUID, 1.0, BOUNDARY_WEIGHT)
-        self.cuts = slab_cuts(np.asarray(positions, np.float64)[:, 0], weights, self.mpi_size, self.halo_width)
+        if cuts is None:
+            self.cuts = slab_cuts(np.asarray(positions, np.float64)[:, 0], weights, self.mpi_size, self.halo_width)
+        else:
+            inner = np.asarray(cuts, np.float64).ravel()
+            if len(inner) != self.mpi_size - 1 or np.any(np.diff(inner) < self.halo_width):
+                raise InputError(f"cuts {inner.tolist()}: give {self.mpi_size - 1} increasing slab bounds at least "
+                                 f"the halo width {self.halo_width:.4g} m apart")
+            self.cuts = np.concatenate([[-np.inf], inner, [np.inf]])
+        self.sort_count = 0
+        self.rebalances = []  # one dict per re-cut (see rebalance)
         self.n_global = self.n_total
         self._capacity = self.n_total
         self.ghost = np.zeros(self.n_total, np.int8)
@@ -162,34 +244,99 @@ class DistributedModel(Model):
             self._compact(np.flatnonzero(self.ghost[: self.n] == 0))
         self.n_ghost = 0
 
-    def _migrate(self):
-        r, cuts, n = self.mpi_rank, self.cuts, self.n
-        x = self.pos[:n, 0]
-        lo, hi = cuts[r], cuts[r + 1]
-        to_left = np.flatnonzero(x < lo)
-        to_right = np.flatnonzero(x >= hi)
-        too_far = r > 0 and np.any(x[to_left] < cuts[r - 1])
-        too_far = too_far or (r + 2 < len(cuts) and np.any(x[to_right] >= cuts[r + 2]))
-        if too_far:
-            raise InstabilityError(f"rank {r}: a particle crossed more than one slab in one step (slabs are at least "
-                                   f"{self.halo_width:.3g} m wide): the run blew up or the time step is far too "
-                                   "large")
-        arrays = self._state_arrays()
-        ncols = _halo.columns(arrays)
-        send_l = _halo.pack(arrays, to_left)
-        send_r = _halo.pack(arrays, to_right)
-        if len(to_left) or len(to_right):
-            self._compact(np.flatnonzero((x >= lo) & (x < hi)))
-        from_l, from_r = self._exchange(send_l, send_r, ncols)
-        k = len(from_l) + len(from_r)
-        if k:
-            n = self.n
-            self._ensure(n + k)
-            arrays = self._state_arrays()  # the same objects, resized in place
-            unpack = _halo.unpack
-            unpack(arrays, np.concatenate([from_l, from_r]), slice(n, n + k))
-            self.ghost[n:n + k] = 0
-            self.n = n + k
+    def _migrate(self, multi_hop=False):
+        """Send the owned particles whose x left the slab to the neighbour on that side.
+
+        Normally a particle crosses one cut at most per step (slabs are at least
+        the halo width wide; farther is a blow-up). After a re-cut (`multi_hop`)
+        a particle may be several slabs from its new owner: the exchange repeats,
+        forwarding it one rank per round, until no rank holds a particle outside
+        its slab (collective)."""
+        while True:
+            r, cuts, n = self.mpi_rank, self.cuts, self.n
+            x = self.pos[:n, 0]
+            lo, hi = cuts[r], cuts[r + 1]
+            to_left = np.flatnonzero(x < lo)
+            to_right = np.flatnonzero(x >= hi)
+            if not multi_hop:
+                too_far = r > 0 and np.any(x[to_left] < cuts[r - 1])
+                too_far = too_far or (r + 2 < len(cuts) and np.any(x[to_right] >= cuts[r + 2]))
+                if too_far:
+                    raise InstabilityError(f"rank {r}: a particle crossed more than one slab in one step (slabs are "
+                                           f"at least {self.halo_width:.3g} m wide): the run blew up or the time step "
+                                           "is far too large")
+            arrays = self._state_arrays()
+            ncols = _halo.columns(arrays)
+            send_l = _halo.pack(arrays, to_left)
+            send_r = _halo.pack(arrays, to_right)
+            if len(to_left) or len(to_right):
+                self._compact(np.flatnonzero((x >= lo) & (x < hi)))
+            from_l, from_r = self._exchange(send_l, send_r, ncols)
+            k = len(from_l) + len(from_r)
+            if k:
+                n = self.n
+                self._ensure(n + k)
+                arrays = self._state_arrays()  # the same objects, resized in place
+                _halo.unpack(arrays, np.concatenate([from_l, from_r]), slice(n, n + k))
+                self.ghost[n:n + k] = 0
+                self.n = n + k
+            if not multi_hop:
+                return
+            x = self.pos[: self.n, 0]
+            outside = int(np.count_nonzero((x < self.cuts[r]) | (x >= self.cuts[r + 1])))
+            if self.allreduce(outside, "sum") == 0:
+                return
+
+    # --------------------------------------------------------- load balance
+    def weighted_count(self):
+        """This rank's owned active particles weighted by cost (fluid 1, wall `BOUNDARY_WEIGHT`)."""
+        kind = self.kind[: self.n][self.ghost[: self.n] == 0]
+        nf = int(np.count_nonzero(kind == FLUID))
+        return nf + BOUNDARY_WEIGHT * (len(kind) - nf)
+
+    def rebalance(self, force=False):
+        """Collective: when the ranks' max / mean weighted count exceeds
+        `rebalance_threshold` (or `force`), move the cuts to the weighted
+        quantiles of the particles' current x and migrate the particles to
+        their new owners. Call with no ghosts held (``sort`` does, between
+        dropping the ghosts and fetching the new halo).
+
+        Returns
+        -------
+        dict or None
+            The record appended to ``rebalances`` (``sort``: the sort count,
+            ``time`` [s], ``imbalance_before`` / ``imbalance_after`` (max /
+            mean weighted count), ``weighted_before`` / ``weighted_after``
+            and ``counts_before`` / ``counts_after`` (particles per rank),
+            ``cuts`` (the new inner cuts [m])), or None when no re-cut was made
+            (balanced within the threshold, the cuts already where they would
+            go, or no room for slabs one halo wide).
+        """
+        t0 = _time.perf_counter()
+        own = self.ghost[: self.n] == 0
+        before = weighted_counts(self.comm, self.weighted_count())
+        self.comm_seconds += _time.perf_counter() - t0
+        ratio = imbalance(before)
+        if not force and ratio <= self.rebalance_threshold:
+            return None
+        kind = self.kind[: self.n][own]
+        w = np.where(kind == FLUID, 1.0, BOUNDARY_WEIGHT)
+        t0 = _time.perf_counter()
+        cuts = distributed_cuts(self.comm, self.pos[: self.n, 0][own], w, self.halo_width,
+                                keys=self.idp[: self.n][own])
+        self.comm_seconds += _time.perf_counter() - t0
+        if cuts is None or np.array_equal(cuts, self.cuts):  # no room to move, or already the best cut
+            return None
+        counts_before = self.comm.allgather(int(np.count_nonzero(own)))
+        self.cuts = cuts
+        self._migrate(multi_hop=True)
+        after = weighted_counts(self.comm, self.weighted_count())
+        rec = {"sort": self.sort_count, "time": float(self.time), "imbalance_before": ratio,
+               "imbalance_after": imbalance(after), "weighted_before": before.tolist(),
+               "weighted_after": after.tolist(), "counts_before": counts_before,
+               "counts_after": self.comm.allgather(int(self.n)), "cuts": cuts[1:-1].tolist()}
+        self.rebalances.append(rec)
+        return rec
 
     def _append_halo(self):
         r, cuts, n, w = self.mpi_rank, self.cuts, self.n, self.halo_width
@@ -245,9 +392,13 @@ class DistributedModel(Model):
         """Drop the ghosts, sort and escape the owned particles, migrate, fetch a new halo, sort again."""
         self._drop_ghosts()
         self._in_sort = True
+        self.sort_count += 1
+        k, every = self.sort_count - 1, self.rebalance_interval
         try:
             super().sort()
-            self._migrate()
+            self._migrate()  # first: the slabs are ordered along x again, as distributed_cuts needs
+            if every > 0 and k > 0 and k % every == 0:  # the start of step k + 1 (sort 1 is before step 1)
+                self.rebalance()
             self._append_halo()
             n_before = self.n
             super().sort()

@@ -36,6 +36,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError, InstabilityError, OutputError, RunInterrupted
+from .decomposition import imbalance, weighted_counts
 from .model import CollectiveError
 
 EXIT_STATUS = {InputError: 2, InstabilityError: 3, OutputError: 4}
@@ -197,7 +198,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
                         threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
                         speed_of_sound=model.c0, eos_B=model.B, particle_mass=model.mass,
                         mpi={"ranks": size, "slab_cuts_x": model.cuts[1:-1].tolist(),
-                             "halo_width": model.halo_width})
+                             "halo_width": model.halo_width, "rebalance_interval": model.rebalance_interval,
+                             "rebalance_threshold": model.rebalance_threshold})
         (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
         log = _logger(out_dir)
         log.info("case %s: %s", case.name, case.description)
@@ -205,6 +207,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
                  "slab cuts x = %s m, halo %.4g m", model.n_global, case.n_fluid, case.dp, model.h, model.c0,
                  backend, size, model.backend.threads(), case.options.precision,
                  ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), model.halo_width)
+        log.info("load balancing: %s", f"every {model.rebalance_interval} steps when the ranks' max / mean weighted "
+                 f"count exceeds {model.rebalance_threshold:g}" if model.rebalance_interval else "off")
     escaped = _escaped_recorder(out_dir, model, rank)
     model.sort()
     probe_dir = out_dir if rank == 0 else Path(tempfile.mkdtemp(prefix=f"shoal-rank{rank}-"))
@@ -217,9 +221,21 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False), name="progress")
     n_fluid0 = case.n_fluid
 
+    logged = [len(model.rebalances)]
+
+    def log_rebalances():
+        for rec in model.rebalances[logged[0]:]:
+            if log is not None:
+                log.info("re-balanced before step %d, t %.6g s: max/mean weighted count %.3f -> %.3f, particles "
+                         "per rank %s -> %s, slab cuts x = %s m", rec["sort"], rec["time"], rec["imbalance_before"],
+                         rec["imbalance_after"], rec["counts_before"], rec["counts_after"],
+                         ", ".join(f"{c:.5g}" for c in rec["cuts"]))
+        logged[0] = len(model.rebalances)
+
     def log_step(s):
         n = model.global_count()
         esc = model.allreduce(model.n_escaped, "sum")
+        log_rebalances()
         if log is not None:
             log.info("step %d t %.6g s dt %.4g s particles %d escaped %d", s.step_count, s.time, s.dt or 0.0, n, esc)
 
@@ -260,6 +276,9 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
     comm_min = model.allreduce(model.comm_seconds, "min")
     n_escaped = model.allreduce(model.n_escaped, "sum")
     n_now = model.global_count()
+    log_rebalances()
+    balance = weighted_counts(comm, model.weighted_count())
+    owned_counts = comm.allgather(int(model.n_owned))
     data = model.gather_particles() if plot else None
     if plot and rank == 0:
         from ..output import plot_particles
@@ -280,5 +299,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
                  result.steps, result.time, result.wall_seconds, result.compile_seconds,
                  result.particle_steps_per_second, n_now, model.n_global, n_escaped, comm_min, comm_max,
                  100.0 * comm_max / max(wall, 1e-9))
+        log.info("load balance at the end: %d re-cuts, max/mean weighted count %.3f, particles per rank %s",
+                 len(model.rebalances), imbalance(balance), owned_counts)
         _close_log(log)
     return result
