@@ -84,3 +84,14 @@ def test_tidal_bore_2d_section():
     Simulation(m, 1.0).run(max_steps=3)
     with pytest.raises(InputError, match="2D"):
         get_case("tidal-bore", dp=0.01, dim=2, half=True)
+
+
+def test_tidal_bore_length_and_gauges():
+    """A longer flume holds length / dp fluid columns; gauges go where asked, inside the flume only."""
+    case = get_case("tidal-bore", dp=0.01, dim=2, length=6.0, gauges_x=[1.0, 4.5])
+    assert case.particles().counts()["fluid"] == 600 * 10
+    assert [(pr.name, pr.x) for pr in case.probes] == [("x1", 1.0), ("x4.5", 4.5)]
+    with pytest.raises(InputError, match="gauges_x = 7 m lies outside"):
+        get_case("tidal-bore", dp=0.01, dim=2, length=6.0, gauges_x=[7.0])
+    with pytest.raises(InputError, match="length"):
+        get_case("tidal-bore", dp=0.01, dim=2, length=-1.0)

@@ -53,8 +53,9 @@ and the undular bore by 7.5 %; a real smooth bed's boundary layer is about 1 mm 
 
 
 def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, piers, pier_start, pier_length,
-          constriction, dim=3):
+          constriction, dim=3, length=LENGTH, gauges_x=None):
     check_positive("inflow_speed", inflow_speed, "m/s")
+    check_positive("length", length, "m")
     check_positive("depth", depth, "m")
     if depth >= HEIGHT / 2:
         raise InputError(f"depth = {depth:g} m leaves no room for the bore in a {HEIGHT:g} m deep flume; "
@@ -68,12 +69,12 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
              "the water depth (or the channel width)")
     g = 9.81
     t_wall = 3 * dp
-    check_count((LENGTH + t_wall) * (W if dim == 3 else dp) * HEIGHT / dp**3, 3)
+    check_count((length + t_wall) * (W if dim == 3 else dp) * HEIGHT / dp**3, 3)
     open_faces = ["top", "xmax"] + (["ymax"] if half else [])
     solids = [
-        Solid(name="inflow wall", shape=Box(lo=(LENGTH, 0.0, 0.0), hi=(LENGTH + t_wall, W, HEIGHT)),
+        Solid(name="inflow wall", shape=Box(lo=(length, 0.0, 0.0), hi=(length + t_wall, W, HEIGHT)),
               motion="inflow"),
-        Solid(name="flume", shape=Tank(lo=(0.0, 0.0, 0.0), hi=(LENGTH + t_wall, W, HEIGHT), open=open_faces)),
+        Solid(name="flume", shape=Tank(lo=(0.0, 0.0, 0.0), hi=(length + t_wall, W, HEIGHT), open=open_faces)),
     ]
     if piers:
         check_positive("constriction", constriction, "m")
@@ -85,8 +86,8 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
             raise InputError(f"pier_length = {pier_length:g} m is shorter than the two 1:1 sections "
                              f"({2 * constriction:g} m)")
         x0, x1, c = pier_start, pier_start + pier_length, constriction
-        if not (0 < x0 and x1 < LENGTH - 0.5):
-            raise InputError(f"the piers from x = {x0:g} to {x1:g} m must lie inside the flume (0, {LENGTH - 0.5:g}) m")
+        if not (0 < x0 and x1 < length - 0.5):
+            raise InputError(f"the piers from x = {x0:g} to {x1:g} m must lie inside the flume (0, {length - 0.5:g}) m")
         # a constriction on the y = 0 wall, 1:1 convergent and divergent ends (plan view, x-y)
         solids.append(Solid(name="pier y0", shape=Prism(
             vertices=[(x0, -0.01), (x0, 0.0), (x0 + c, c), (x1 - c, c), (x1, 0.0), (x1, -0.01)],
@@ -95,7 +96,7 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
             solids.append(Solid(name="pier y1", shape=Prism(
                 vertices=[(x0, WIDTH + 0.01), (x0, WIDTH), (x0 + c, WIDTH - c), (x1 - c, WIDTH - c), (x1, WIDTH),
                           (x1, WIDTH + 0.01)], axis="z", lo=0.0, hi=HEIGHT)))
-    fluids = [FluidRegion(shape=Box(lo=(0.0, 0.0, 0.0), hi=(LENGTH, W, depth)), velocity=(-inflow_speed, 0.0, 0.0))]
+    fluids = [FluidRegion(shape=Box(lo=(0.0, 0.0, 0.0), hi=(length, W, depth)), velocity=(-inflow_speed, 0.0, 0.0))]
     sym = [SymmetryPlane(point=(0.0, W, 0.0), normal=(0.0, -1.0, 0.0))] if half else []
     c0_speed = inflow_speed + math.sqrt(g * depth)
     # Belanger: bore celerity c (relative to the ground) with still water downstream of the front moving at
@@ -104,13 +105,19 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
     name = "tidal-bore-piers" if piers else "tidal-bore"
     desc = (f"{'undular' if fr < 1.3 else 'breaking'} tidal bore, U = {inflow_speed:g} m/s, d0 = {depth:g} m, "
             f"Fr = {fr:.2f}" + (", bridge-pier constriction" if piers else "") + (", half width" if half else ""))
-    params = dict(dp=dp, inflow_speed=inflow_speed, depth=depth, half=half, froude=fr)
+    params = dict(dp=dp, inflow_speed=inflow_speed, depth=depth, half=half, froude=fr, length=length)
     y_gauge = W / 2 if not half else W - 2 * dp  # on the centre line (next to the symmetry plane)
     if piers:
         params.update(pier_start=pier_start, pier_length=pier_length, constriction=constriction)
         gx = {"entrance": pier_start, "middle": pier_start + 0.4, "exit": pier_start + pier_length}
-    else:
+    elif gauges_x is None:
         gx = {"x0.5": 0.5, "x1.0": 1.0, "x1.5": 1.5}
+    else:
+        gx = {f"x{float(x):g}": float(x) for x in gauges_x}
+        bad = [x for x in gx.values() if not 0 < x < length]
+        if bad:
+            raise InputError(f"gauges_x = {bad[0]:g} m lies outside the flume; allowed 0 < x < length = {length:g} m")
+        params["gauges_x"] = list(gx.values())
     probes = [WaveGauge(name=k, x=x, y=y_gauge, z0=0.5 * depth, z1=HEIGHT, interval=0.01) for k, x in gx.items()]
     return Case(name=name, dim=dim, dp=float(dp), end_time=float(end_time), description=desc,
                 fluid=Fluid(depth=depth, u_max=c0_speed, surface_level=depth),
@@ -129,7 +136,7 @@ def froude_of_bore(inflow_speed, depth, g=9.81):
 
 
 def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, dim=3, end_time=1.6, output_interval=0.05,
-               options=None):
+               options=None, length=LENGTH, gauges_x=None):
     """Tidal bore in the 3 m x 0.3 m x 0.4 m flume (moving-wall inflow).
 
     Parameters
@@ -151,10 +158,19 @@ def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, dim=3, end_ti
     end_time, output_interval : float
         [s]; the paper ran to 1.6 s.
 
-    Wave gauges at x = 0.5, 1.0 and 1.5 m on the centre line record the
-    bore every 0.01 s (``gauge_*.csv`` in the run's directory).
+    length : float
+        Flume length [m] from the gate to the inflow wall (the paper's 3 m);
+        a longer flume lets an undular bore develop further (Favre's
+        undulations were measured tens of depths from where they formed).
+    gauges_x : sequence of float, optional
+        Wave-gauge positions [m from the gate] (gauges ``gauge_x<X>.csv``);
+        default x = 0.5, 1.0 and 1.5 m.
+
+    Wave gauges on the centre line record the bore every 0.01 s
+    (``gauge_*.csv`` in the run's directory).
     """
-    return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, False, 1.0, 0.6, 0.05, dim)
+    return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, False, 1.0, 0.6, 0.05, dim,
+                 length, gauges_x)
 
 
 def tidal_bore_piers(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, pier_start=1.0, pier_length=0.6,
