@@ -129,18 +129,16 @@ def _front(vtu):
     return float(pts[fluid, 0].max()), np.asarray(data["id"]), pts
 
 
-def test_dam_break_two_ranks_matches_one(mpiexec, tmp_path):
-    """A small 3D dam break (9,204 particles, symplectic, float32, to t = 0.15 s) on 2 ranks against 1:
-    the same particles (ids), so the mass (count x particle mass) is exactly conserved; the front and a
-    gauge in the column within 0.01 dp. The runs differ by round-off only (the order of the pair sums
-    within a cell differs, so they are not bitwise equal): measured 4e-8 m at the front and 1e-8 m at the
-    gauge at t = 0.2 s (dp = 0.02 m); a halo or migration fault gives differences of the order of dp."""
+@pytest.fixture(scope="module")
+def dam_break_runs(mpiexec, tmp_path_factory):
+    """A small 3D dam break (9,204 particles, symplectic, float32, to t = 0.15 s, a gauge in the column)
+    run once on 1 process and once on 2 ranks (`shoal run`): (case, run dir of 1, run dir of 2, stdouts)."""
     import shoal
     from shoal.cases.dam_break import dam_break_3d
     from shoal.probes import WaveGauge
 
-    dp = 0.02
-    case = dam_break_3d(dp=dp, end_time=0.15, output_interval=0.05,
+    tmp_path = tmp_path_factory.mktemp("dam_break")
+    case = dam_break_3d(dp=0.02, end_time=0.15, output_interval=0.05,
                         options=shoal.SPHOptions(integrator="symplectic"))
     case = case.model_copy(update={"probes": [WaveGauge(name="column", x=0.07, y=0.08, z0=0.0, z1=0.35,
                                                         interval=0.025)]})
@@ -153,23 +151,105 @@ def test_dam_break_two_ranks_matches_one(mpiexec, tmp_path):
     two = subprocess.run([*mpiexec, "-n", "2", *base, "--out", str(tmp_path / "two")], capture_output=True,
                          text=True, timeout=300, env=_env())
     assert two.returncode == 0, two.stdout[-1000:] + two.stderr[-2000:]
-    assert two.stdout.count("shoal: ") == one.stdout.count("shoal: ")  # rank 0 speaks alone
-    resolved = json.loads((tmp_path / "two" / "resolved.json").read_text())
+    return case, tmp_path / "one", tmp_path / "two", (one.stdout, two.stdout)
+
+
+def test_dam_break_two_ranks_matches_one(dam_break_runs):
+    """A small 3D dam break (9,204 particles, symplectic, float32, to t = 0.15 s) on 2 ranks against 1:
+    the same particles (ids), so the mass (count x particle mass) is exactly conserved; the front and a
+    gauge in the column within 0.01 dp. The runs differ by round-off only (the order of the pair sums
+    within a cell differs, so they are not bitwise equal): measured 4e-8 m at the front and 1e-8 m at the
+    gauge at t = 0.2 s (dp = 0.02 m); a halo or migration fault gives differences of the order of dp."""
+    case, one, two, (out1, out2) = dam_break_runs
+    dp = case.dp
+    assert out2.count("shoal: ") == out1.count("shoal: ")  # rank 0 speaks alone
+    resolved = json.loads((two / "resolved.json").read_text())
     assert resolved["mpi"]["ranks"] == 2
-    f1, ids1, p1 = _front(tmp_path / "one" / "dam-break-3d_0003.vtu")
-    f2, ids2, p2 = _front(tmp_path / "two" / "dam-break-3d_0003.vtu")
+    f1, ids1, p1 = _front(one / "dam-break-3d_0003.vtu")
+    f2, ids2, p2 = _front(two / "dam-break-3d_0003.pvtu")
     # every particle exactly once, none lost: mass = count x particle mass, exactly conserved
     assert len(ids2) == len(ids1) == case.n_particles
     assert np.array_equal(np.sort(ids2), np.arange(case.n_particles))
     assert f1 - case.parameters["a"] > 2 * dp  # the surge has moved
     assert abs(f2 - f1) <= 0.01 * dp, (f1, f2)
-    g1 = np.loadtxt(tmp_path / "one" / "gauge_column.csv", delimiter=",", skiprows=1)
-    g2 = np.loadtxt(tmp_path / "two" / "gauge_column.csv", delimiter=",", skiprows=1)
+    g1 = np.loadtxt(one / "gauge_column.csv", delimiter=",", skiprows=1)
+    g2 = np.loadtxt(two / "gauge_column.csv", delimiter=",", skiprows=1)
     assert g1.shape == g2.shape and np.allclose(g1[:, 0], g2[:, 0])
     assert g1[0, 1] - g1[-1, 1] > 2 * dp  # the level in the column falls
     assert np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * dp, np.column_stack([g1, g2[:, 1]])
-    log = (tmp_path / "two" / "run.log").read_text()
-    assert "2 MPI ranks" in log and "communication" in log
+    log = (two / "run.log").read_text()
+    assert "2 MPI ranks" in log and "communication" in log and "load balance at the end" in log
+
+
+def test_pvtu_pieces_are_the_single_process_snapshots(dam_break_runs):
+    """Per-rank VTU pieces: the 2-rank run's .pvd lists one .pvtu per snapshot (the same times as the
+    single-process .pvd), each .pvtu (parsed as XML) names two existing pieces whose arrays have the
+    types and components it declares; the union of the pieces holds every particle exactly once (no
+    piece empty, none shared) with the single-process snapshot's fields, and positions within 0.01 dp
+    of it (round-off, as above)."""
+    import xml.etree.ElementTree as ET
+
+    from shoal.output import read_vtu
+    from shoal.output.pvd import PVDWriter
+
+    case, one, two, _ = dam_break_runs
+    e1, e2 = PVDWriter._load(one / "dam-break-3d.pvd"), PVDWriter._load(two / "dam-break-3d.pvd")
+    assert [t for t, _ in e1] == [t for t, _ in e2] and len(e2) == 4
+    assert not list(two.glob("*.vtu"))  # nothing gathered
+    for (t, f1), (_, f2) in zip(e1, e2):
+        assert f2.endswith(".pvtu") and (two / f2).is_file(), f2
+        root = ET.parse(two / f2).getroot()
+        assert root.get("type") == "PUnstructuredGrid"
+        grid = root.find("PUnstructuredGrid")
+        declared = {da.get("Name"): (da.get("type"), da.get("NumberOfComponents"))
+                    for da in grid.iterfind("PPointData/PDataArray")}
+        assert set(declared) == {"velocity", "density", "pressure", "id", "kind", "free_surface"}
+        assert grid.find("PPoints/PDataArray").get("type") == "Float64"
+        sources = [p.get("Source") for p in grid.iterfind("Piece")]
+        assert len(sources) == 2
+        ids_per_piece = []
+        for src in sources:
+            piece = two / Path(f2).parent / src
+            assert piece.is_file(), piece
+            proot = ET.parse(piece).getroot()
+            arrays = {da.get("Name"): (da.get("type"), da.get("NumberOfComponents"))
+                      for da in proot.iterfind("UnstructuredGrid/Piece/PointData/DataArray")}
+            assert arrays == declared, (arrays, declared)
+            ids_per_piece.append(read_vtu(piece)[1]["id"])
+        assert all(len(i) for i in ids_per_piece)
+        assert not set(ids_per_piece[0].tolist()) & set(ids_per_piece[1].tolist())
+        p1, d1 = read_vtu(one / f1)
+        p2, d2 = read_vtu(two / f2)  # the union of the pieces
+        assert set(d1) == set(d2) and len(p2) == len(p1) == case.n_particles
+        o1, o2 = np.argsort(d1["id"]), np.argsort(d2["id"])
+        assert np.array_equal(d1["id"][o1], d2["id"][o2]) and np.array_equal(d1["kind"][o1], d2["kind"][o2])
+        for k in d1:
+            assert d1[k].dtype == d2[k].dtype, k
+        assert np.max(np.abs(p1[o1] - p2[o2])) <= 0.01 * case.dp, t
+
+
+def test_pvtu_round_trip_with_an_empty_piece(tmp_path):
+    """write_pvtu + read_vtu on the .pvtu: the pieces concatenated in order, an empty piece included."""
+    from shoal.output import read_vtu, write_pvtu, write_vtu
+    from shoal.output.pvtu import pvtu_layout, pvtu_pieces
+
+    rng = np.random.default_rng(3)
+    parts = []
+    for k, n in enumerate((5, 0, 7)):
+        pts = rng.normal(size=(n, 3))
+        data = {"velocity": rng.normal(size=(n, 3)).astype(np.float32), "id": np.arange(n, dtype=np.int32) + 10 * k,
+                "kind": np.zeros(n, np.int8)}
+        (tmp_path / "s").mkdir(exist_ok=True)
+        write_vtu(tmp_path / "s" / f"s_{k}.vtu", pts, data, time=0.5)
+        parts.append((pts, data))
+    layout = pvtu_layout(parts[0][0], parts[0][1])
+    assert layout["point_data"] == [("velocity", "Float32", 3), ("id", "Int32", None), ("kind", "Int32", None)]
+    write_pvtu(tmp_path / "s.pvtu", [f"s/s_{k}.vtu" for k in range(3)], layout)
+    assert [p.name for p in pvtu_pieces(tmp_path / "s.pvtu")] == ["s_0.vtu", "s_1.vtu", "s_2.vtu"]
+    pts, data = read_vtu(tmp_path / "s.pvtu")
+    assert np.array_equal(pts, np.concatenate([p for p, _ in parts]))
+    assert np.array_equal(data["id"], np.concatenate([d["id"] for _, d in parts]))
+    assert data["velocity"].shape == (12, 3) and data["velocity"].dtype == np.float32
 
 
 def test_too_many_ranks_is_one_line(mpiexec, tmp_path):
@@ -194,7 +274,7 @@ def test_failing_rank_ends_every_rank(mpiexec, tmp_path):
 
 def test_instability_is_collective(mpiexec, tmp_path):
     """A blow-up found on any rank stops every rank together: exit status 3, one message naming the
-    particle and the rank, and the bad state gathered into <case>_unstable.vtu."""
+    particle and the rank, and the bad state in <case>_unstable.pvtu and its per-rank pieces."""
     import shoal
     from shoal.cases.dam_break import dam_break_3d
 
@@ -206,7 +286,8 @@ def test_instability_is_collective(mpiexec, tmp_path):
     assert r.returncode == 3, r.stdout + r.stderr
     lines = [s for s in r.stderr.splitlines() if s.strip()]
     assert len(lines) == 1 and "run stopped: unstable at step" in lines[0] and "(MPI rank " in lines[0], r.stderr
-    assert (tmp_path / "run" / "dam-break-3d_unstable.vtu").exists()
+    assert (tmp_path / "run" / "dam-break-3d_unstable.pvtu").exists()
+    assert len(list((tmp_path / "run" / "dam-break-3d_unstable").glob("dam-break-3d_unstable_*.vtu"))) == 2
 
 
 def test_rebalance_settings():

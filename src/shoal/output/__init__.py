@@ -1,7 +1,8 @@
-"""Simulation output: VTU snapshots, the PVD time index and quick-look plots."""
+"""Simulation output: VTU snapshots (PVTU pieces under MPI), the PVD time index and quick-look plots."""
 
 from shoal.output.plot import plot_particles
 from shoal.output.pvd import PVDWriter
+from shoal.output.pvtu import read_pvtu, write_pvtu
 from shoal.output.vtu import read_vtu, write_vtu
 
-__all__ = ["PVDWriter", "plot_particles", "read_vtu", "write_vtu"]
+__all__ = ["PVDWriter", "plot_particles", "read_pvtu", "read_vtu", "write_pvtu", "write_vtu"]

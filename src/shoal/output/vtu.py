@@ -150,12 +150,14 @@ def write_vtu(path, points, point_data, time=None):
 
 
 def read_vtu(path):
-    """Read particles back from a ``.vtu`` file.
+    """Read particles back from a ``.vtu`` file (or a ``.pvtu`` and its pieces).
 
     Parameters
     ----------
     path : str or os.PathLike
-        File written by :func:`write_vtu` (or any point-based ``.vtu``).
+        File written by :func:`write_vtu` (or any point-based ``.vtu``); a
+        ``.pvtu`` (`shoal.output.pvtu`, written by runs on several MPI ranks)
+        is read as the union of its pieces, in piece order.
 
     Returns
     -------
@@ -165,6 +167,10 @@ def read_vtu(path):
         Per-particle fields, shape ``(N,)`` or ``(N, k)``, with their stored
         dtypes (``int8``/``uint8``/``bool`` fields come back as ``int32``).
     """
+    if os.fspath(path).endswith(".pvtu"):
+        from .pvtu import read_pvtu
+
+        return read_pvtu(path)
     try:
         mesh = meshio.read(Path(path), file_format="vtu")
     except (IndexError, ValueError):

@@ -1,15 +1,17 @@
 """`run_case_mpi`: `shoal run` / `shoal.run_case` on several MPI ranks.
 
-What this slice writes (all from rank 0 unless said): ``case.toml``,
-``resolved.json`` (with the ranks and slab cuts), ``run.log`` (with the
-communication share of the wall time), snapshots gathered to rank 0 into
-the usual ``<name>_NNNN.vtu`` + ``<name>.pvd`` (one file per snapshot, as
-a single-process run writes: `shoal post` and the offline probes read them
-unchanged; per-rank pieces with a ``.pvtu`` are a later slice, for runs too
-big to gather), point probes, wave gauges and test-point grids (each point
-sampled by the rank whose slab holds it, the values on every rank, rank 0
-writes), ``escaped.csv`` (rank 0's escapes; rank r's in ``escaped.rank<r>.csv``)
-and the final PNG.
+What it writes (from rank 0 unless said): ``case.toml``, ``resolved.json``
+(with the ranks and slab cuts), ``run.log`` (with the re-cuts of the load
+balancing and the communication share of the wall time), snapshots as
+``<name>_NNNN.pvtu`` + ``<name>.pvd``, each rank writing its own piece
+``<name>_NNNN/<name>_NNNN_<rank>.vtu`` (nothing gathered; ParaView opens the
+``.pvd`` as one dataset, `shoal.output.read_vtu` reads a ``.pvtu`` whole, so
+`shoal post` and the offline probes read them unchanged), or with
+``SHOAL_MPI_SNAPSHOTS=gather`` gathered to rank 0 into the ``<name>_NNNN.vtu``
+files of a single-process run; point probes, wave gauges and test-point
+grids (each point sampled by the rank whose slab holds it, the values on
+every rank, rank 0 writes), ``escaped.csv`` (rank 0's escapes; rank r's in
+``escaped.rank<r>.csv``) and the final PNG (gathered).
 
 Not yet under MPI (refused with one line): checkpoints and ``--resume``,
 trackers, max-z and run-up gauges, the CUDA backend, periodic x. Stop
@@ -17,9 +19,9 @@ signals are not caught (mpiexec's own handling ends every rank).
 
 Errors: bad input is found on every rank alike (or decided on rank 0 and
 broadcast) and raised everywhere; a collective check (instability, escaped
-fluid) raises the same error on every rank; any other error on one rank
-prints ``shoal: MPI rank R: ...`` and calls ``MPI_Abort``, which ends every
-rank: a failing rank never leaves the others hanging.
+fluid, a failed write) raises the same error on every rank; any other error
+on one rank prints ``shoal: MPI rank R: ...`` and calls ``MPI_Abort``, which
+ends every rank: a failing rank never leaves the others hanging.
 """
 
 from __future__ import annotations
@@ -70,14 +72,75 @@ def _agree(comm, message):
         raise InputError(message)
 
 
-class _GatheredSnapshots:
-    """Snapshot callback: every rank's particles gathered to rank 0, written as one .vtu."""
+class CollectiveOutputError(OutputError):
+    """An OutputError every rank raises together (a write failed on some rank)."""
 
-    def __init__(self, out_dir, name, rank):
-        from ..simulation.writers import SnapshotWriter
+    collective = True
 
-        self.rank = rank
-        self.inner = SnapshotWriter(out_dir, name) if rank == 0 else None
+
+def _write_error(err, path):
+    """One line for a failed write of `path` (`OSError` `err`)."""
+    from ..simulation.resources import DISK_FULL, disk_full_message
+
+    if err.errno in DISK_FULL:
+        return disk_full_message(err, path.parent)
+    return f"cannot write {path}: {err.strerror or err}"
+
+
+def _collective_check(comm, message):
+    """Raise CollectiveOutputError on every rank when any rank passes a message (the first rank's)."""
+    msgs = comm.allgather(message)
+    for r, m in enumerate(msgs):
+        if m:
+            raise CollectiveOutputError(f"{m} (MPI rank {r})")
+
+
+SNAPSHOT_MODES = ("pieces", "gather")
+
+
+def snapshot_mode(environ=None):
+    """How snapshots are written under MPI: ``SHOAL_MPI_SNAPSHOTS`` = ``pieces``
+    (default: a ``.vtu`` piece per rank and a ``.pvtu``) or ``gather`` (gathered
+    to rank 0 into one ``.vtu``, as a single-process run writes).
+
+    Raises
+    ------
+    InputError
+        Another value.
+    """
+    import os
+
+    env = os.environ if environ is None else environ
+    mode = env.get("SHOAL_MPI_SNAPSHOTS", "").strip().lower() or "pieces"
+    if mode not in SNAPSHOT_MODES:
+        raise InputError(f"SHOAL_MPI_SNAPSHOTS = {mode!r}: give pieces (one .vtu per rank and a .pvtu, the default) "
+                         "or gather (one .vtu written by rank 0)")
+    return mode
+
+
+class _Snapshots:
+    """Snapshot callback under MPI (collective): ``<name>_NNNN.pvtu`` + ``<name>.pvd``.
+
+    Mode ``pieces`` (default): every rank writes its own particles as
+    ``<name>_NNNN/<name>_NNNN_<rank>.vtu`` (ParaView's layout for its own
+    parallel writer) and rank 0 the ``<name>_NNNN.pvtu`` that names the
+    pieces; the ``.pvd`` lists the ``.pvtu`` files, so ParaView opens the
+    run as one dataset and `shoal.output.read_vtu` reads a snapshot whole.
+    Nothing is gathered. Mode ``gather``: the particles are gathered to
+    rank 0 and written as ``<name>_NNNN.vtu`` (in id order), the files of
+    a single-process run. A write that fails on any rank raises
+    `CollectiveOutputError` on every rank.
+    """
+
+    def __init__(self, out_dir, name, comm, mode="pieces"):
+        from ..output import PVDWriter
+
+        self.directory = Path(out_dir)
+        self.name = name
+        self.comm = comm
+        self.rank, self.size = comm.Get_rank(), comm.Get_size()
+        self.mode = mode
+        self.pvd = PVDWriter(self.directory, name) if self.rank == 0 else None
         self.count = 0
         self.last_time = None
 
@@ -85,23 +148,60 @@ class _GatheredSnapshots:
         self.write(sim.model, sim.time)
 
     def write(self, model, time, suffix=None):
+        """Write one snapshot of `model` at `time` [s] (collective); returns its path (the
+        ``.pvtu`` or the ``.vtu``) on every rank."""
+        base = f"{self.name}_{self.count:04d}" if suffix is None else f"{self.name}_{suffix}"
+        path = self.directory / (f"{base}.pvtu" if self.mode == "pieces" else f"{base}.vtu")
+        if self.mode == "pieces":
+            self._write_pieces(model, time, base, path)
+        else:
+            self._write_gathered(model, time, path)
+        if suffix is None:
+            if self.rank == 0:
+                msg = None
+                try:
+                    self.pvd.add(time, path.name)
+                except OSError as err:
+                    msg = _write_error(err, self.pvd.path)
+                _collective_check(self.comm, msg)
+            else:
+                _collective_check(self.comm, None)
+            self.count += 1
+            self.last_time = time
+        return path
+
+    def _write_pieces(self, model, time, base, path):
+        from ..output import write_pvtu, write_vtu
+        from ..output.pvtu import pvtu_layout
+
+        pos, fields = model.world_positions(), model.fields()
+        piece = self.directory / base / f"{base}_{self.rank}.vtu"
+        msg = None
+        try:
+            piece.parent.mkdir(exist_ok=True)
+            write_vtu(piece, pos, fields, time=time)
+        except OSError as err:
+            msg = _write_error(err, piece)
+        _collective_check(self.comm, msg)
+        msg = None
+        if self.rank == 0:
+            try:
+                write_pvtu(path, [f"{base}/{base}_{r}.vtu" for r in range(self.size)], pvtu_layout(pos, fields))
+            except OSError as err:
+                msg = _write_error(err, path)
+        _collective_check(self.comm, msg)
+
+    def _write_gathered(self, model, time, path):
         from ..output import write_vtu
 
         data = model.gather_particles()
-        self.last_time = time if suffix is None else self.last_time
-        if self.rank != 0:
-            self.count += suffix is None
-            return None
-        w = self.inner
-        fname = f"{w.name}_{w.count:04d}.vtu" if suffix is None else f"{w.name}_{suffix}.vtu"
-        path = w.directory / fname
-        write_vtu(path, data[0], data[1], time=time)
-        if suffix is None:
-            w.pvd.add(time, fname)
-            w.count += 1
-            w.last_time = time
-            self.count = w.count
-        return path
+        msg = None
+        if self.rank == 0:
+            try:
+                write_vtu(path, data[0], data[1], time=time)
+            except OSError as err:
+                msg = _write_error(err, path)
+        _collective_check(self.comm, msg)
 
 
 def _escaped_recorder(out_dir, model, rank):
@@ -152,6 +252,7 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
                 if case.checkpoint.interval > 0:
                     raise InputError("checkpoints are not written under MPI yet (a later slice); drop "
                                      "--checkpoint-interval / [checkpoint] interval or run on one process")
+                snapshot_mode()
                 m = unsupported(case, backend)
                 if m:
                     raise InputError(m)
@@ -215,7 +316,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
     recorders = [make_recorder(p, probe_dir, case.dp, model) for p in case.probes]
     for rec in recorders:
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
-    writer = _GatheredSnapshots(out_dir, case.name, rank)
+    writer = _Snapshots(out_dir, case.name, comm, snapshot_mode())
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = _Progress(case.end_time, progress and rank == 0)
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False), name="progress")
