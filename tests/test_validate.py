@@ -296,3 +296,29 @@ def test_wave_flume_comparison_on_synthetic_records(tmp_path, scale, passed):
     assert len(heights) == 3 and all(abs(m.value - (scale - 1)) < 4e-3 for m in heights)
     assert all(m.passed for m in res.metrics if not m.name.startswith("wave height"))  # period, speed exact
     assert figs[0].is_file() and figs[0].stat().st_size < 100_000
+
+
+@pytest.mark.parametrize("kr,passed", [(0.03, True), (0.08, False)])
+def test_wave_flume_reflection_check_on_synthetic_records(tmp_path, kr, passed):
+    """The damping zone's reflection coefficient, from the 11-gauge array: K_r = 0.03 passes (tolerance
+    0.05), 0.08 fails, each recovered to 1e-4; the incident height is Biesel's to 1e-4."""
+    import math
+
+    from shoal.motions import wavenumber
+    from shoal.validation.wave_flume import WaveFlume
+
+    case = WaveFlume()
+    p = case.params(True)
+    T, d, H = p["period"], p["depth"], p["wave_height"]
+    k = wavenumber(T, d)
+    w = 2 * math.pi / T
+    t = np.arange(0.0, 14.0, T / 40)
+    xs = [round(1.0 + 0.25 * i, 2) for i in range(11)]
+    records = {x: (t, d + 0.5 * H * (np.sin(w * t - k * x) + kr * np.sin(w * t + k * x + 1.0))) for x in xs}
+    res = case.new_result(True, "cpu", tmp_path)
+    res.data = dict(records=records, windows={x: (2.0 + x, 2.0 + x + 4 * T) for x in (1.0, 2.0, 3.0)}, k=k,
+                    cg=1.1, steps=1, stroke=0.05, sep_window=(10.0, 10.0 + 2 * T), **p)
+    _, ok = case.compare(res)
+    (refl,) = [m for m in res.metrics if m.name.startswith("reflection coefficient")]
+    assert refl.value == pytest.approx(kr, abs=1e-4) and refl.passed is passed
+    assert "H_I at x = 0 (extrapolated) +0.0% of Biesel's" in " ".join(res.notes)

@@ -29,6 +29,10 @@ class WaveFlume(ValidationCase):
         within 3 % of linear dispersion, issue 5; c = L / T with the period imposed).
     kernel : {"wendland", "cubic"}
         Smoothing kernel of the run.
+    reflection_tolerance : float
+        Largest reflection coefficient K_r of the damping zone that passes (0.05: the local height then
+        differs from the incident wave's by at most 5 %); a check of the set-up, measured by separating
+        the incident and reflected first harmonics over 11 gauges (`shoal.analysis.reflection_analysis`).
     coef_h : float
         Smoothing length h = coef_h sqrt(2) dp (default 1.5, h = 2.1 dp). With the default
         coef_h = 1 of `SPHOptions` (h = 1.41 dp in 2D) a linear standing wave loses 7.5 % of its
@@ -46,7 +50,11 @@ class WaveFlume(ValidationCase):
              "the toe of a 1:10 beach at 6 m so that no reflection reaches the gauges; wave gauges (kernel-sum "
              "threshold 1/2, 40 samples a period) at 1, 2 and 3 m. Heights and periods by zero up-crossing "
              "over 4 whole periods at each gauge, starting one period after the end of the ramp has reached "
-             "the gauge at the group velocity. Scheme: Wendland, laminar viscosity of water (nu = 1e-6 m^2/s, "
+             "the gauge at the group velocity. Eleven gauges every 0.25 m from 1 to 3.5 m separate the incident and "
+             "reflected first harmonics (Mansard & Funke 1980) with a fitted spatial decay, over two periods "
+             "once the wave reflected by the damping zone is steady at every gauge: the zone's reflection "
+             "coefficient (the paddle re-reflects that wave into the incident one by then, a change of the "
+             "order of K_r) and the damping of the progressive wave along the flume. Scheme: Wendland, laminar viscosity of water (nu = 1e-6 m^2/s, "
              "no artificial viscosity: the least dissipative of the options measured for waves, see the "
              "README), free-slip walls for the viscous term, Fourtakas delta = 0.1, symplectic, float32, "
              "smoothing length h = 1.5 sqrt(2) dp = 2.1 dp (with 1.41 dp, the default, the Wendland kernel "
@@ -61,7 +69,8 @@ class WaveFlume(ValidationCase):
                       "linear theory's (issue 5's wavelength within 3 %, c = L/T).")
 
     def __init__(self, height_tolerance=0.05, period_tolerance=0.02, speed_tolerance=0.03, kernel="wendland",
-                 coef_h=1.5):
+                 coef_h=1.5, reflection_tolerance=0.05):
+        self.r_tol = float(reflection_tolerance)
         self.kernel = kernel
         self.coef_h = float(coef_h)
         self.h_tol = float(height_tolerance)
@@ -90,21 +99,29 @@ class WaveFlume(ValidationCase):
         gauges = (1.0, 2.0, 3.0)
         ramp = 2.0
         windows = {x: (x / cg + (ramp + 1) * T, x / cg + (ramp + 5) * T) for x in gauges}
-        end_time = max(b for _, b in windows.values()) + 0.1
+        zone = (4.5, 6.0)  # the damping zone, ending at the toe of the beach
+        # the array for the incident/reflected separation: every 0.25 m from 1 to 3.5 m, over two periods
+        # when the wave reflected by the damping zone is steady at every gauge too (the end of the ramp has
+        # gone to the zone and back to the first gauge at the group velocity, plus a period)
+        array = tuple(round(1.0 + 0.25 * i, 2) for i in range(11))
+        t_s = (2 * zone[0] - array[0]) / cg + (ramp + 1) * T
+        sep_window = (t_s, t_s + 2 * T)
+        end_time = max(max(b for _, b in windows.values()), sep_window[1]) + 0.1
         # the flume's own scheme (`shoal.cases.wave_flume.WAVE_OPTIONS`), with this case's kernel and h
         opts = SPHOptions(**{**WAVE_OPTIONS[2], "kernel": self.kernel, "coef_h": self.coef_h})
         case = wave_flume_2d(dp=p["dp"], depth=d, wave_height=H, period=T, ramp_periods=ramp,
-                             end_time=end_time, output_interval=end_time, gauges_x=gauges, options=opts)
-        case = case.model_copy(update={"damping": [DampingZone(start=(4.5, 0, 0), end=(6.0, 0, 0), rate=10.0)]})
+                             end_time=end_time, output_interval=end_time, gauges_x=array, options=opts)
+        case = case.model_copy(update={"damping": [DampingZone(start=(zone[0], 0, 0), end=(zone[1], 0, 0),
+                                                                rate=10.0)]})
         t0 = time.perf_counter()
         with tempfile.TemporaryDirectory(prefix="shoal-validate-") as tmp:
             run = shoal.run_case(case, Path(tmp) / "run", backend=backend, plot=False, handle_signals=False)
             records = {}
-            for x in gauges:
+            for x in array:
                 data = np.loadtxt(Path(tmp) / "run" / f"gauge_x{x:g}.csv", delimiter=",", skiprows=1, ndmin=2)
                 records[x] = (data[:, 0], data[:, 1])
         res.run_seconds = time.perf_counter() - t0
-        res.data = dict(records=records, windows=windows, k=k, cg=cg, steps=run.steps, **p,
+        res.data = dict(records=records, windows=windows, k=k, cg=cg, steps=run.steps, sep_window=sep_window, **p,
                         stroke=case.parameters["stroke"])
         res.resolution = (f"dp = {p['dp']:g} m = H/{H / p['dp']:.3g}, H = {H:g} m, T = {T:g} s, d = {d:g} m "
                           f"(kd = {k * d:.2f}), to t = {end_time:.1f} s, {self.kernel} kernel, h = {self.coef_h:g} sqrt(2) dp")
@@ -112,14 +129,15 @@ class WaveFlume(ValidationCase):
         return res
 
     def compare(self, result):
-        from ..analysis.waves import phase_speed, wave_statistics
+        from ..analysis.waves import phase_speed, reflection_analysis, wave_statistics
 
         d = result.data
         H, T, k = d["wave_height"], d["period"], d["k"]
         c_lin = 2 * math.pi / (k * T)
         stats = {}
         metrics = []
-        for x, (t, eta) in d["records"].items():
+        for x in d["windows"]:
+            t, eta = d["records"][x]
             a, b = d["windows"][x]
             s = stats[x] = wave_statistics(t, eta, a, b)
             metrics.append(Metric(f"wave height at x = {x:g} m vs Biesel's H = {H:g} m", s.height / H - 1, self.h_tol,
@@ -127,7 +145,7 @@ class WaveFlume(ValidationCase):
         for x, s in stats.items():
             metrics.append(Metric(f"wave period at x = {x:g} m vs the paddle's T = {T:g} s", s.period / T - 1,
                                   self.t_tol, note=f"T = {s.period:.4f} s"))
-        xs = sorted(d["records"])
+        xs = sorted(d["windows"])
         x0, x1 = xs[0], xs[1]
         t, e0 = d["records"][x0]
         _, e1 = d["records"][x1]
@@ -135,6 +153,22 @@ class WaveFlume(ValidationCase):
         metrics.append(Metric(f"phase speed between x = {x0:g} and {x1:g} m vs linear c = L/T = {c_lin:.3f} m/s",
                               c / c_lin - 1, self.c_tol,
                               note=f"c = {c:.3f} m/s, i.e. L = cT = {c * T:.3f} m vs {2 * math.pi / k:.3f} m"))
+        if "sep_window" in d:  # incident and reflected waves from the gauge array (Mansard & Funke 1980)
+            t = d["records"][xs[0]][0]
+            n = min(len(r[0]) for r in d["records"].values())
+            rec = {x: r[1][:n] for x, r in d["records"].items()}
+            sep = reflection_analysis(t[:n], rec, T, d["depth"], *d["sep_window"], fit_decay=True, x_ref=0.0)
+            metrics.append(Metric("reflection coefficient of the damping zone (set-up check: the gauges see the "
+                                  "incident wave)", sep.reflection_coefficient, self.r_tol,
+                                  note=f"K_r = H_R/H_I from {len(rec)} gauges at 1-3.5 m, t = "
+                                       f"{d['sep_window'][0]:.1f}-{d['sep_window'][1]:.1f} s"))
+            his = ", ".join(f"{sep.incident_height_at(x) / H - 1:+.1%}" for x in xs)
+            result.notes.append(
+                f"Incident first harmonic (Mansard & Funke separation, 11 gauges 1-3.5 m): H_I at x = 0 "
+                f"(extrapolated) {sep.incident_height / H - 1:+.1%} of Biesel's, at x = "
+                f"{' / '.join(f'{x:g}' for x in xs)} m {his}; amplitude decay along the flume "
+                f"{sep.decay * 100:.2f} % per metre ({(1 - math.exp(-sep.decay * 2 * math.pi / k)) * 100:.1f} % per "
+                f"wavelength); K_r = {sep.reflection_coefficient:.3f}.")
         result.metrics = metrics
         result.notes.append(f"{d['steps']:,} steps; paddle stroke S = {d['stroke']:.4f} m; group velocity "
                             f"{d['cg']:.3f} m/s sets each gauge's window.")
