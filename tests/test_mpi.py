@@ -330,7 +330,7 @@ def test_rebalance_from_unbalanced_cut_matches_one_rank(mpiexec, tmp_path):
     assert np.array_equal(b["ids"], np.arange(n)) and np.array_equal(a["ids"], b["ids"])  # each id once
     assert sum(info["owned_end"]) == n and info["owned_inside_slab"]
     first = info["rebalances"][0]
-    assert first["sort"] == 6 and first["imbalance_before"] > 1.5  # checked at the start of step 6
+    assert first["sort"] == 6 and first["imbalance_before"] > 1.5  # the first check (after 5 sorts)
     w0, w1 = first["weighted_after"]
     assert abs(w0 - w1) <= 0.02 * (w0 + w1) and first["imbalance_after"] < 1.05, first
     assert sum(first["counts_after"]) == n
@@ -339,3 +339,97 @@ def test_rebalance_from_unbalanced_cut_matches_one_rank(mpiexec, tmp_path):
     assert np.allclose(info["distributed_cuts"], info["serial_cuts"], rtol=0, atol=1e-12), info
     err = float(np.abs(a["pos"] - b["pos"]).max())
     assert err <= 0.01 * 0.02, err
+
+
+def _mpi_final_state(run):
+    """Owned particles of the newest MPI checkpoint of `run` (every rank's file, by id), its manifest."""
+    import h5py
+
+    from shoal.parallel.checkpoint import list_manifests
+
+    man = json.loads(list_manifests(run)[0].read_text())
+    parts = []
+    for f in man["files"]:
+        with h5py.File(run / f, "r") as h:
+            extra = [h[f"integrator/extra_{k}"][()] for k in range(len(h["integrator"]))]
+            own = extra[-1] == 0  # the ghost flags are the last integrator array
+            part = {k: h[f"particles/{k}"][()][own] for k in ("pos", "vel", "rho", "kind", "idp")}
+            part["extra"] = [e[own] for e in extra[:-1]]
+            parts.append(part)
+    ids = np.concatenate([p["idp"] for p in parts])
+    order = np.argsort(ids)
+    out = {k: np.concatenate([p[k] for p in parts])[order] for k in ("pos", "vel", "rho", "kind", "idp")}
+    out["extra"] = [np.concatenate([p["extra"][i] for p in parts])[order] for i in range(len(parts[0]["extra"]))]
+    return man, out
+
+
+def test_resume_on_two_ranks_is_bitwise(mpiexec, tmp_path):
+    """Per-rank checkpoints and --resume: a 3D dam break (9,204 particles, symplectic, float32) on 2 ranks,
+    re-balanced every 5 steps whenever the ranks differ at all (threshold 1.0: the cut moves with the water
+    from t = 0.095 s on), run uninterrupted to t = 0.11 s and, in a second directory, stopped at t = 0.1 s
+    (its final checkpoint) then resumed with `shoal run --resume --end-time 0.11`: the final checkpoints
+    hold bitwise the same owned particles (position, velocity, density, kind, id, the integrator's
+    arrays) and cuts, re-cuts happened on both sides of the stop, the last snapshots are bitwise equal
+    piece by piece (the same rows on the same ranks in the same order), the gauge CSV and the .pvd are
+    byte for byte equal. Bitwise because every rank restores its rows (ghosts included) in their order,
+    the cuts, the halo's send lists and the load balancing's sort count, so each rank repeats the same
+    operations on the same data. Resuming on 1 process or on 3 ranks is refused with one line naming
+    both counts (exit 2); only the newest 2 checkpoints are kept."""
+    import shoal
+    from shoal.case import Checkpointing
+    from shoal.cases.dam_break import dam_break_3d
+    from shoal.output import read_vtu
+    from shoal.probes import WaveGauge
+
+    def case_file(name, end):
+        case = dam_break_3d(dp=0.02, end_time=end, output_interval=0.025,
+                            options=shoal.SPHOptions(integrator="symplectic"))
+        case = case.model_copy(update={
+            "probes": [WaveGauge(name="column", x=0.07, y=0.08, z0=0.0, z1=0.35, interval=0.01)],
+            "checkpoint": Checkpointing(interval=0.04, wall_interval=0.0, keep=2)})
+        path = tmp_path / name
+        shoal.write_case(case, path)
+        return path
+
+    env = dict(_env(), SHOAL_MPI_REBALANCE_INTERVAL="5", SHOAL_MPI_REBALANCE_THRESHOLD="1.0")
+    run = [sys.executable, "-m", "shoal", "run", "--no-plot", "--no-progress"]
+    a, b = tmp_path / "a", tmp_path / "b"
+    for toml, out in ((case_file("a.toml", 0.11), a), (case_file("b.toml", 0.1), b)):
+        r = subprocess.run([*mpiexec, "-n", "2", *run, str(toml), "--out", str(out)], capture_output=True,
+                           text=True, timeout=300, env=env)
+        assert r.returncode == 0, r.stdout[-1000:] + r.stderr[-2000:]
+    stopped, _ = _mpi_final_state(b)
+    assert stopped["ranks"] == 2 and stopped["time"] == 0.1
+    # another number of ranks: one line naming both counts, exit 2
+    r1 = subprocess.run([*run, "--resume", str(b)], capture_output=True, text=True, timeout=120, env=env)
+    r3 = subprocess.run([*mpiexec, "-n", "3", *run, "--resume", str(b)], capture_output=True, text=True,
+                        timeout=120, env=env)
+    for r, text in ((r1, "written by 2 MPI ranks and this run has 1 process"),
+                    (r3, "written by 2 MPI ranks and this run has 3")):
+        lines = [s for s in r.stderr.splitlines() if s.strip()]
+        assert r.returncode == 2 and len(lines) == 1 and text in lines[0], r.stderr
+    r = subprocess.run([*mpiexec, "-n", "2", *run, "--resume", str(b), "--end-time", "0.11"], capture_output=True,
+                       text=True, timeout=300, env=env)
+    assert r.returncode == 0 and "resumed from ckpt_" in r.stdout, r.stdout[-1000:] + r.stderr[-2000:]
+    man_a, sa = _mpi_final_state(a)
+    man_b, sb = _mpi_final_state(b)
+    assert man_a["step"] == man_b["step"] and man_a["time"] == man_b["time"] == 0.11
+    assert man_a["cuts"] == man_b["cuts"]
+    for k in ("pos", "vel", "rho", "kind", "idp"):
+        assert sa[k].dtype == sb[k].dtype and np.array_equal(sa[k], sb[k]), k  # bitwise
+    assert len(sa["extra"]) == 3 and all(np.array_equal(x, y) for x, y in zip(sa["extra"], sb["extra"]))
+    assert np.array_equal(sa["idp"], np.arange(9204))
+    log_a, log_b = (a / "run.log").read_text(), (b / "run.log").read_text()
+    recuts = [float(line.split("re-balanced at t ")[1].split()[0]) for line in log_a.splitlines()
+              if "re-balanced at t " in line]
+    assert min(recuts) < 0.1 < max(recuts), recuts
+    assert "resumed from ckpt_" in log_b and log_b.count("case dam-break-3d") == 1
+    assert log_b.count("re-balanced at t ") == len(recuts)  # the same re-cuts, none twice
+    last = "dam-break-3d_0005"
+    for piece in range(2):
+        pa, da = read_vtu(a / last / f"{last}_{piece}.vtu")
+        pb, db = read_vtu(b / last / f"{last}_{piece}.vtu")
+        assert np.array_equal(pa, pb) and all(np.array_equal(da[k], db[k]) for k in da)
+    assert (a / "gauge_column.csv").read_bytes() == (b / "gauge_column.csv").read_bytes()
+    assert (a / "dam-break-3d.pvd").read_text() == (b / "dam-break-3d.pvd").read_text()
+    assert len(list(b.glob("ckpt_*.mpi.json"))) == 2 and len(list(b.glob("ckpt_*.rank*.h5"))) == 4

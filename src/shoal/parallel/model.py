@@ -480,6 +480,66 @@ class DistributedModel(Model):
                     "velocity": vel * inv[:, None]}
         return {"kernel_sum": s, "pressure": out[:, 1], "density": out[:, 2], "velocity": vel}
 
+    # ----------------------------------------------------------- checkpoint
+    def checkpoint_arrays(self):
+        """The per-particle arrays a checkpoint of this rank saves (rows ``0..n``: owned
+        and ghosts, in their current order), by attribute name; the integrator's
+        arrays and the ghost flags are ``extra_arrays``."""
+        out = {name: getattr(self, name) for name in ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax",
+                                                        "pr2")}
+        for name in ("xsph", "tau", "vwall"):
+            a = getattr(self, name)
+            if a.shape[0] == self._capacity and self._capacity > 1:
+                out[name] = a
+        return out
+
+    def checkpoint_state(self):
+        """(scalars, arrays) of the decomposition a checkpoint of this rank must hold for an
+        exact restart: the counts, the cuts, the rows the halo refresh sends and
+        receives, the sort count of the load balancing and its records."""
+        scalars = {"rank": self.mpi_rank, "size": self.mpi_size, "n_owned": int(self.n_owned),
+                   "n_ghost": int(self.n_ghost), "ghost_counts": [int(c) for c in self._ghost_counts],
+                   "sort_count": int(self.sort_count), "halo_fresh": bool(self._halo_fresh),
+                   "rebalances": self.rebalances, "rebalance_interval": self.rebalance_interval,
+                   "rebalance_threshold": self.rebalance_threshold}
+        arrays = {"cuts": np.asarray(self.cuts, np.float64), "send_left": np.asarray(self._send[0], np.int64),
+                  "send_right": np.asarray(self._send[1], np.int64),
+                  "ghost_rows": np.asarray(self._ghost_rows, np.int64)}
+        return scalars, arrays
+
+    def restore_checkpoint(self, n, particles, extra, scalars, arrays):
+        """Put a checkpoint of this rank back (the inverse of `checkpoint_arrays`,
+        `checkpoint_state`): `n` active rows of `particles` (by name) and `extra`
+        (the ``extra_arrays``, in order), the decomposition's `scalars` and `arrays`.
+
+        Raises
+        ------
+        ValueError
+            The arrays do not match this model's (another scheme or precision).
+        """
+        self._ensure(n)
+        mine = self.checkpoint_arrays()
+        if set(mine) != set(particles) or len(extra) != len(self.extra_arrays):
+            raise ValueError(f"the particle arrays {sorted(particles)} (+{len(extra)} integrator arrays) are not "
+                             f"this model's {sorted(mine)} (+{len(self.extra_arrays)})")
+        for name, dst in list(mine.items()) + list(zip(range(len(extra)), self.extra_arrays)):
+            src = particles[name] if isinstance(name, str) else extra[name]
+            if src.shape[0] != n or src.shape[1:] != dst.shape[1:] or src.dtype != dst.dtype:
+                raise ValueError(f"array {name} is {src.dtype}{tuple(src.shape)}, the model's "
+                                 f"{dst.dtype}(n{tuple(dst.shape[1:])})")
+            dst[:n] = src
+        self.n = int(n)
+        self.n_owned = int(scalars["n_owned"])
+        self.n_ghost = int(scalars["n_ghost"])
+        self._ghost_counts = tuple(int(c) for c in scalars["ghost_counts"])
+        self.sort_count = int(scalars["sort_count"])
+        self._halo_fresh = bool(scalars["halo_fresh"])
+        self.rebalances = list(scalars.get("rebalances", []))
+        self.cuts = np.asarray(arrays["cuts"], np.float64).copy()
+        self._send = (np.asarray(arrays["send_left"], np.int64).copy(),
+                      np.asarray(arrays["send_right"], np.int64).copy())
+        self._ghost_rows = np.asarray(arrays["ghost_rows"], np.int64).copy()
+
     # ---------------------------------------------------------------- output
     def world_positions(self, active_only=True):
         """(n_owned, 3) positions of this rank's particles."""

@@ -13,9 +13,15 @@ grids (each point sampled by the rank whose slab holds it, the values on
 every rank, rank 0 writes), ``escaped.csv`` (rank 0's escapes; rank r's in
 ``escaped.rank<r>.csv``) and the final PNG (gathered).
 
-Not yet under MPI (refused with one line): checkpoints and ``--resume``,
-trackers, max-z and run-up gauges, the CUDA backend, periodic x. Stop
-signals are not caught (mpiexec's own handling ends every rank).
+Checkpoints (`shoal.parallel.checkpoint`): every rank writes its own
+``ckpt_NNNNNN.rank<RRRR>.h5`` and rank 0 the ``ckpt_NNNNNN.mpi.json``
+manifest, on the case's schedule (simulated time, and wall-clock time as
+rank 0's clock says) and at the end; ``--resume`` continues the run on the
+same number of ranks, bitwise (another rank count: one line, exit 2).
+
+Not yet under MPI (refused with one line): trackers, max-z and run-up
+gauges, the CUDA backend, periodic x. Stop signals are not caught
+(mpiexec's own handling ends every rank, without a checkpoint).
 
 Errors: bad input is found on every rank alike (or decided on rank 0 and
 broadcast) and raised everywhere; a collective check (instability, escaped
@@ -132,7 +138,7 @@ class _Snapshots:
     `CollectiveOutputError` on every rank.
     """
 
-    def __init__(self, out_dir, name, comm, mode="pieces"):
+    def __init__(self, out_dir, name, comm, mode="pieces", resume=False):
         from ..output import PVDWriter
 
         self.directory = Path(out_dir)
@@ -140,9 +146,35 @@ class _Snapshots:
         self.comm = comm
         self.rank, self.size = comm.Get_rank(), comm.Get_size()
         self.mode = mode
-        self.pvd = PVDWriter(self.directory, name) if self.rank == 0 else None
+        self.pvd = PVDWriter(self.directory, name, resume=resume) if self.rank == 0 else None
         self.count = 0
         self.last_time = None
+
+    def checkpoint_state(self):
+        """What a checkpoint keeps: the number of snapshots written and the time of the last one."""
+        return {"count": self.count, "last_time": self.last_time}
+
+    def restore_checkpoint_state(self, scalars, arrays, backup=None):
+        """Continue the series after a checkpoint: the next snapshot is number ``count``; rank 0
+        drops the collection's entries after the checkpoint's last snapshot and removes the
+        snapshots numbered from ``count`` on (``.pvtu`` and piece folders, or ``.vtu``), written
+        by the interrupted run after the checkpoint."""
+        import math
+        import shutil
+
+        self.count = int(scalars["count"])
+        self.last_time = None if scalars.get("last_time") is None else float(scalars["last_time"])
+        if self.rank != 0:
+            return
+        self.pvd.truncate(-math.inf if self.last_time is None else self.last_time)
+        for p in self.directory.glob(f"{self.name}_[0-9][0-9][0-9][0-9]*"):
+            stem = p.name[len(self.name) + 1:].split(".")[0]
+            if not (stem.isdigit() and int(stem) >= self.count):
+                continue
+            if p.is_dir():
+                shutil.rmtree(p, ignore_errors=True)
+            elif p.suffix in (".pvtu", ".vtu"):
+                p.unlink()
 
     def __call__(self, sim):
         self.write(sim.model, sim.time)
@@ -204,16 +236,25 @@ class _Snapshots:
         _collective_check(self.comm, msg)
 
 
-def _escaped_recorder(out_dir, model, rank):
+def _escaped_recorder(out_dir, model, rank, resume_bytes=None):
+    """This rank's escaped-particle recorder (``escaped.csv`` on rank 0, ``escaped.rank<r>.csv``
+    elsewhere); on a resume (`resume_bytes`: its length at the checkpoint) the file is cut back
+    to that length and appended to."""
     from ..simulation.escaped import HEADER, EscapedRecorder
 
     rec = EscapedRecorder.__new__(EscapedRecorder)
     rec.path = Path(out_dir) / ("escaped.csv" if rank == 0 else f"escaped.rank{rank}.csv")
     rec.max_fraction = 1.0
     rec.n_fluid0 = 0
-    rec.file = open(rec.path, "w", newline="")
-    rec.writer = csv.writer(rec.file)
-    rec.writer.writerow(HEADER)
+    if resume_bytes and rec.path.exists():
+        rec.file = open(rec.path, "r+", newline="")
+        rec.file.truncate(int(resume_bytes))
+        rec.file.seek(0, 2)
+        rec.writer = csv.writer(rec.file)
+    else:
+        rec.file = open(rec.path, "w", newline="")
+        rec.writer = csv.writer(rec.file)
+        rec.writer.writerow(HEADER)
     rec.file.flush()
     rec.last = None
     model.on_escape = rec.on_escape
@@ -246,17 +287,15 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
             from ..simulation.resources import check_memory
 
             try:
-                if resume:
-                    raise InputError("--resume is not supported under MPI yet (checkpoints per rank are a later "
-                                     "slice); resume on one process")
-                if case.checkpoint.interval > 0:
-                    raise InputError("checkpoints are not written under MPI yet (a later slice); drop "
-                                     "--checkpoint-interval / [checkpoint] interval or run on one process")
                 snapshot_mode()
                 m = unsupported(case, backend)
                 if m:
                     raise InputError(m)
-                if not overwrite and (out_dir / "resolved.json").exists():
+                if resume:
+                    if not out_dir.is_dir() or not (out_dir / "resolved.json").exists() and not any(
+                            out_dir.glob("ckpt_*")):
+                        raise InputError(f"{out_dir} holds no run to resume (no resolved.json or checkpoint)")
+                elif not overwrite and (out_dir / "resolved.json").exists():
                     raise InputError(f"{out_dir} already holds a run (resolved.json); choose another --out directory "
                                      "or pass --overwrite")
                 check_memory(case)
@@ -266,11 +305,14 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
             except OSError as err:
                 msg = f"cannot write to the output directory {out_dir}: {err.strerror or err}"
         _agree(comm, msg)
+        resume_point = None
+        if resume:
+            resume_point = _resume_point(case, out_dir, comm)  # InputError on every rank alike
         from ..runner import build_model
 
         model = build_model(case, backend)  # a DistributedModel: deterministic errors, raised on every rank
         started = True
-        return _run(case, out_dir, comm, model, progress, plot, max_steps, backend)
+        return _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point)
     except BaseException as err:  # noqa: BLE001 -- anything not raised on every rank alike ends every rank
         if getattr(err, "collective", False) or (not started and isinstance(err, InputError)):
             raise
@@ -280,20 +322,65 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
         raise
 
 
-def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
+def _resume_point(case, out_dir, comm):
+    """(manifest path, manifest, this rank's Checkpoint) to resume the run in `out_dir` from
+    (collective; InputError on every rank alike: no usable checkpoint, another rank count,
+    another case, a finished run)."""
+    from ..runner import _same_case, _warn
+    from .checkpoint import find_resume
+
+    warnings = []
+
+    def warn(msg):
+        _warn(msg)
+        warnings.append(msg)
+
+    man, obj, ck = find_resume(out_dir, comm, warn=warn)
+    _same_case(case, ck)
+    if ck.time >= case.end_time * (1 - 1e-12):
+        raise InputError(f"the run in {out_dir} is complete (checkpoint {man.name} at t = {ck.time:.6g} s, "
+                         f"end_time = {case.end_time:g} s); give a later --end-time to extend it")
+    return man, ck, warnings
+
+
+def _checkpoint_schedule(cfg, comm):
+    """The single-process checkpoint schedule, its wall-clock part decided by rank 0."""
+    from ..runner import _checkpoint_schedule as single
+    from ..simulation.schedules import WallTimeInterval
+    from .checkpoint import CollectiveSchedule
+
+    sched = single(cfg)
+    sched.schedules = [CollectiveSchedule(s, comm) if isinstance(s, WallTimeInterval) else s
+                       for s in sched.schedules]
+    return sched
+
+
+def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point=None):
     import time as _time
 
-    from ..casefile import write_case
+    from ..casefile import dumps_case, write_case
     from ..probes import make_recorder
     from ..runner import RunResult, _close_log, _logger, _Progress, run_summary
     from ..simulation import IterationInterval, Simulation, TimeInterval
+    from ..simulation.checkpoint import callback_saved_state, clear_checkpoints, restore_recorder, set_aside
+    from .checkpoint import MPICheckpointWriter, restore_rank, set_aside_newer
 
     rank, size = comm.Get_rank(), comm.Get_size()
     sim = Simulation(model, case.end_time)
     sim.damping = list(case.damping)
+    man, ck, warnings = resume_point if resume_point is not None else (None, None, [])
     log = None
     if rank == 0:
+        if ck is None:
+            clear_checkpoints(out_dir)  # a new run never resumes from an older run's state
+        else:
+            set_aside_newer(out_dir, ck.step)
         write_case(case, out_dir / "case.toml")
+    if rank == 0 and ck is not None:
+        log = _logger(out_dir, append=True)
+        for w in warnings:
+            log.warning("%s", w)
+    elif rank == 0:
         resolved = run_summary(case, model)
         resolved.update(shoal_version=__version__, backend=backend, python=platform.python_version(),
                         threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
@@ -310,13 +397,24 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
                  ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), model.halo_width)
         log.info("load balancing: %s", f"every {model.rebalance_interval} steps when the ranks' max / mean weighted "
                  f"count exceeds {model.rebalance_threshold:g}" if model.rebalance_interval else "off")
-    escaped = _escaped_recorder(out_dir, model, rank)
+    # on a resume, rank 0's probe CSVs are set aside before the recorders re-create them, then get back
+    # exactly the bytes they held at the checkpoint (as a single-process resume does)
+    backups = {}
+    if rank == 0 and ck is not None:
+        for p in sorted(out_dir.glob("*.csv")) + sorted(out_dir.glob("*.csv.resume")):
+            name = p.name[: -len(".resume")] if p.name.endswith(".resume") else p.name
+            if name not in backups and not name.startswith("escaped"):
+                bak = set_aside(out_dir / name)
+                if bak is not None:
+                    backups[name] = bak
+    escaped = _escaped_recorder(out_dir, model, rank,
+                                resume_bytes=ck.meta["mpi"].get("escaped_bytes") if ck is not None else None)
     model.sort()
     probe_dir = out_dir if rank == 0 else Path(tempfile.mkdtemp(prefix=f"shoal-rank{rank}-"))
     recorders = [make_recorder(p, probe_dir, case.dp, model) for p in case.probes]
     for rec in recorders:
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
-    writer = _Snapshots(out_dir, case.name, comm, snapshot_mode())
+    writer = _Snapshots(out_dir, case.name, comm, snapshot_mode(), resume=ck is not None)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = _Progress(case.end_time, progress and rank == 0)
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False), name="progress")
@@ -327,8 +425,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
     def log_rebalances():
         for rec in model.rebalances[logged[0]:]:
             if log is not None:
-                log.info("re-balanced before step %d, t %.6g s: max/mean weighted count %.3f -> %.3f, particles "
-                         "per rank %s -> %s, slab cuts x = %s m", rec["sort"], rec["time"], rec["imbalance_before"],
+                log.info("re-balanced at t %.6g s (sort %d): max/mean weighted count %.3f -> %.3f, particles "
+                         "per rank %s -> %s, slab cuts x = %s m", rec["time"], rec["sort"], rec["imbalance_before"],
                          rec["imbalance_after"], rec["counts_before"], rec["counts_after"],
                          ", ".join(f"{c:.5g}" for c in rec["cuts"]))
         logged[0] = len(model.rebalances)
@@ -351,7 +449,39 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
                     f"{case.max_escaped_fraction:g} (list in escaped*.csv): enlarge the domain, or check the inflow, "
                     "the walls and the time step")
         sim.add_callback(escaped_check, IterationInterval(1), name="escaped")
+    ckw = MPICheckpointWriter(out_dir, dumps_case(case, file_name="case.toml"), case.checkpoint.keep, comm, log,
+                              escaped)
+    ck_cb = sim.add_callback(ckw, _checkpoint_schedule(case.checkpoint, comm), name="checkpoint")  # last
+    ck_cb.fresh_on_resume = True
     closers = [escaped, *recorders]
+    if ck is not None:
+        restore_rank(sim, ck)
+        restored = set()
+        for k, cb in enumerate(sim.callbacks):
+            if getattr(cb, "fresh_on_resume", False):
+                continue
+            scalars, arrays = callback_saved_state(ck, k, cb.name)
+            if scalars or arrays:
+                bak = backups.get(scalars.get("file_name"))
+                w = restore_recorder(cb.func, scalars, arrays, bak)
+                if bak is not None:
+                    restored.add(scalars.get("file_name"))
+                if w and log is not None:
+                    log.warning("%s", w)
+        for sch in ck_cb.schedule.schedules:
+            if isinstance(sch, TimeInterval):
+                sch.skip_to(sim.time)
+        for name, bak in backups.items():
+            if name in restored:
+                bak.unlink()  # its data is back in the re-created file
+            elif not (out_dir / name).exists():
+                bak.replace(out_dir / name)  # not a recorder's file: put it back as it was
+        ckw.last_step, ckw.last_path = ck.step, man
+        logged[0] = len(model.rebalances)
+        if log is not None:
+            log.info("resumed from %s (%d ranks): step %d, t = %.9g s, dt %.6g s, slab cuts x = %s m; run to "
+                     "t = %g s", man.name, size, ck.step, ck.time, sim.dt or 0.0,
+                     ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), case.end_time)
     t0 = _time.perf_counter()
     try:
         sim.run(max_steps=max_steps)
@@ -363,13 +493,15 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
             raise
         path = writer.write(model, sim.time, suffix="unstable")
         if log is not None:
-            log.error("%s; bad state written to %s", err, path.name)
+            kept = f"; last checkpoint kept: {ckw.last_path.name}" if ckw.last_path is not None else ""
+            log.error("%s; bad state written to %s%s", err, path.name, kept)
             _close_log(log)
         raise CollectiveError(f"{err} (state written to {path or out_dir})") from None
     finally:
         bar.stop()
     if writer.last_time is None or writer.last_time < sim.time - 1e-12:
         writer(sim)
+    final = ckw.write(sim)  # before closing the recorders: it records their files' lengths
     for rec in closers:
         rec.close()
     wall = _time.perf_counter() - t0
@@ -392,7 +524,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend):
 
         shutil.rmtree(probe_dir, ignore_errors=True)
     result = RunResult(out_dir, sim.step_count, sim.time, sim.wall_seconds, model.backend.compile_seconds,
-                       model.n_global, n_escaped, writer.count, model, sim)
+                       model.n_global, n_escaped, writer.count, model, sim, checkpoint=final, resumed_from=man)
     if log is not None:
         log.info("done: %d steps to t = %.6g s in %.2f s wall (%.2f s compile), %.3g particle-steps/s, %d particles "
                  "(%d at the start), %d escaped; communication (exchanges, reductions, gathers, and waiting for "

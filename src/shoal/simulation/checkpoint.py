@@ -31,6 +31,11 @@ previous checkpoints untouched. Only the newest `keep` are kept.
 
 Motions are pure functions of time (their tables are rebuilt from the case),
 so they carry no state of their own.
+
+A run on several MPI ranks writes one such file per rank,
+``ckpt_NNNNNN.rank<RRRR>.h5``, and a manifest ``ckpt_NNNNNN.mpi.json``
+(`shoal.parallel.checkpoint`); `capture` saves a rank's active rows, and a
+single-process resume of such a run is refused naming the rank count.
 """
 
 from __future__ import annotations
@@ -76,6 +81,9 @@ class Checkpoint:
         The integrator's state arrays, in `Model.extra_arrays` order.
     callbacks : dict of int -> dict of str -> ndarray
         Array state of the callbacks, by callback index.
+    other : dict of str -> ndarray
+        Any other dataset, by its full name (e.g. ``mpi/cuts`` in the per-rank
+        files of a run on several MPI ranks, `shoal.parallel.checkpoint`).
     """
 
     path: Path
@@ -84,6 +92,7 @@ class Checkpoint:
     particles: dict = field(default_factory=dict)
     extra: list = field(default_factory=list)
     callbacks: dict = field(default_factory=dict)
+    other: dict = field(default_factory=dict)
 
     @property
     def time(self):
@@ -254,16 +263,29 @@ def _text(s):
     return np.frombuffer(s.encode("utf-8"), dtype=np.uint8)
 
 
-def capture(sim, case_toml):
-    """The datasets of a checkpoint of `sim` (name -> ndarray)."""
+def capture(sim, case_toml, particles=None, rows=None):
+    """The datasets of a checkpoint of `sim` (name -> ndarray).
+
+    Parameters
+    ----------
+    sim : Simulation
+    case_toml : str
+        The resolved case file text.
+    particles : dict of str -> array, optional
+        The per-particle arrays to save (default: `particle_arrays`).
+    rows : int, optional
+        Save only the first `rows` rows of those and of the integrator's
+        arrays (default: every row). A rank of an MPI run saves its active
+        rows (`shoal.parallel.checkpoint`).
+    """
     from .. import __version__
 
     m = sim.model
     ds = {}
-    for name, a in particle_arrays(m).items():
-        ds[f"particles/{name}"] = np.array(m.backend.to_host(a, 0, a.shape[0]))
+    for name, a in (particle_arrays(m) if particles is None else particles).items():
+        ds[f"particles/{name}"] = np.array(m.backend.to_host(a, 0, a.shape[0] if rows is None else rows))
     for k, a in enumerate(m.extra_arrays):
-        ds[f"integrator/extra_{k}"] = np.array(m.backend.to_host(a, 0, a.shape[0]))
+        ds[f"integrator/extra_{k}"] = np.array(m.backend.to_host(a, 0, a.shape[0] if rows is None else rows))
     cbs = []
     for k, cb in enumerate(sim.callbacks):
         entry = {"name": cb.name, "schedule": cb.schedule.get_state() if hasattr(cb.schedule, "get_state") else {}}
@@ -382,8 +404,31 @@ def read_checkpoint(path):
             ck.extra.append((int(parts[1].split("_")[1]), a))
         elif parts[0] == "callbacks":
             ck.callbacks.setdefault(int(parts[1]), {})["/".join(parts[2:])] = a
+        else:
+            ck.other[name] = a
     ck.extra = [a for _, a in sorted(ck.extra, key=lambda t: t[0])]
     return ck
+
+
+MPI_MANIFEST = re.compile(r"^ckpt_(\d+)\.mpi\.json$")
+MPI_RANK_FILE = re.compile(r"^ckpt_(\d+)\.rank(\d+)\.h5$")
+
+
+def mpi_checkpoint_ranks(out_dir):
+    """The rank count of the newest checkpoint manifest (``ckpt_NNNNNN.mpi.json``)
+    a run on several MPI ranks left in `out_dir`, or None (see
+    `shoal.parallel.checkpoint`)."""
+    out_dir = Path(out_dir)
+    if not out_dir.is_dir():
+        return None
+    found = sorted(((int(m.group(1)), p) for p in out_dir.iterdir() if (m := MPI_MANIFEST.match(p.name))),
+                   reverse=True)
+    for _, p in found:
+        try:
+            return int(json.loads(p.read_text())["ranks"])
+        except (OSError, ValueError, KeyError, TypeError):
+            continue
+    return None
 
 
 def latest_checkpoint(out_dir, warn=None):
@@ -395,6 +440,10 @@ def latest_checkpoint(out_dir, warn=None):
     """
     files = list_checkpoints(out_dir)
     if not files:
+        ranks = mpi_checkpoint_ranks(out_dir)
+        if ranks:
+            raise InputError(f"the checkpoints in {out_dir} were written by {ranks} MPI ranks and this run has 1 "
+                             f"process: resume it with mpiexec -n {ranks} shoal run --resume {out_dir}")
         raise InputError(f"{out_dir} holds no checkpoint (ckpt_NNNNNN.h5) to resume from")
     for p in files:
         try:
@@ -436,6 +485,21 @@ def restore(sim, ck):
         if tuple(src.shape) != tuple(dst.shape) or src.dtype != dst.dtype:
             raise CheckpointError(f"{ck.path.name}: an integrator array does not match the model")
         m.backend.copy_into(dst, src, src.shape[0])
+    restore_scalars(sim, ck)
+
+
+def restore_scalars(sim, ck):
+    """The scalar part of `restore`: the integrator's scalars, the model's active
+    and escaped counts and time, the Simulation's time, step count and time
+    steps, and the schedules of the callbacks (checked against the checkpoint's
+    by name); raises `CheckpointError` on a mismatch."""
+    m = sim.model
+    meta = ck.meta
+    mm = meta["model"]
+    it = meta["integrator"]
+    if it["type"] != type(sim.integrator).__name__ or len(ck.extra) != len(m.extra_arrays):
+        raise CheckpointError(f"{ck.path.name} was written with the {it['type']} integrator; this run uses "
+                              f"{type(sim.integrator).__name__}")
     for k, v in it["scalars"].items():
         setattr(sim.integrator, k, v)
     m.n = int(mm["n"])
@@ -590,6 +654,8 @@ def clear_checkpoints(out_dir):
     for p in out_dir.iterdir():
         if _NAME.match(p.name) or re.match(r"^ckpt_\d+\.h5\.(tmp|bad)$", p.name) or p.name.endswith(".csv.resume"):
             p.unlink()
+        elif re.match(r"^ckpt_\d+\.(mpi\.json|rank\d+\.h5)(\.tmp|\.bad)?$", p.name):
+            p.unlink()  # a run on several MPI ranks (shoal.parallel.checkpoint)
 
 
 def set_aside_newer(out_dir, ck):

@@ -1,0 +1,343 @@
+"""Checkpoints of a run on several MPI ranks: one HDF5 file per rank and a manifest.
+
+A checkpoint at step NNNNNN is
+
+``ckpt_NNNNNN.rank<RRRR>.h5``
+    one per rank, in the single-process format (`shoal.simulation.checkpoint`:
+    ``particles/*``, ``integrator/extra_*``, ``callbacks/*``, ``meta``,
+    ``case_toml``, the SHA-256 of the datasets as an attribute), holding the
+    rank's active rows (owned particles and ghosts, in their current order,
+    the ghost flags as the last integrator array), plus ``mpi/cuts``,
+    ``mpi/send_left``, ``mpi/send_right``, ``mpi/ghost_rows`` (the rows the
+    halo refresh sends and fills) and, in ``meta["mpi"]``, the rank's counts,
+    the load balancing's sort count and records, and the byte length of its
+    ``escaped*.csv``;
+``ckpt_NNNNNN.mpi.json``
+    the manifest, written by rank 0 once every rank's file is on disk: the
+    rank count, step, time, the cuts, and each rank's file name and SHA-256.
+
+A checkpoint exists once its manifest does (written atomically, after the
+rank files): a crash mid-write leaves the previous ones usable. On resume
+every rank reads and verifies its own file against the manifest; if any
+rank's file is missing or damaged, the previous manifest is tried (with a
+one-line warning). The state is put back row for row, so a resumed run
+on the same number of ranks continues **bitwise** as if it had never
+stopped (the ranks compute in the same order on the same data). Resuming on
+another number of ranks is refused with one line naming both counts.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import time as _time
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..simulation.checkpoint import (MPI_MANIFEST, MPI_RANK_FILE, CheckpointError, _fsync_dir, _text, capture,
+                                     list_checkpoints, read_checkpoint, restore_scalars, write_checkpoint)
+
+FORMAT = "shoal-mpi-checkpoint"
+VERSION = 1
+
+
+def rank_path(out_dir, step, rank):
+    """``out_dir/ckpt_NNNNNN.rank<RRRR>.h5``."""
+    return Path(out_dir) / f"ckpt_{int(step):06d}.rank{int(rank):04d}.h5"
+
+
+def manifest_path(out_dir, step):
+    """``out_dir/ckpt_NNNNNN.mpi.json``."""
+    return Path(out_dir) / f"ckpt_{int(step):06d}.mpi.json"
+
+
+def list_manifests(out_dir):
+    """Checkpoint manifests in `out_dir`, newest (highest step) first."""
+    out_dir = Path(out_dir)
+    if not out_dir.is_dir():
+        return []
+    found = [(int(m.group(1)), p) for p in out_dir.iterdir() if (m := MPI_MANIFEST.match(p.name))]
+    return [p for _, p in sorted(found, reverse=True)]
+
+
+def _stored_digest(path):
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        d = f.attrs.get("sha256")
+    return d.decode() if isinstance(d, bytes) else str(d)
+
+
+def capture_rank(sim, case_toml, escaped_bytes=0):
+    """The datasets of this rank's checkpoint file (name -> ndarray)."""
+    m = sim.model
+    ds = capture(sim, case_toml, particles=m.checkpoint_arrays(), rows=m.n)
+    scalars, arrays = m.checkpoint_state()
+    for k, a in arrays.items():
+        ds[f"mpi/{k}"] = a
+    meta = json.loads(bytes(ds["meta"]).decode("utf-8"))
+    meta["mpi"] = dict(scalars, escaped_bytes=int(escaped_bytes))
+    ds["meta"] = _text(json.dumps(meta))
+    return ds
+
+
+def _write_json(path, obj):
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(obj, f, indent=1)
+            f.write("\n")
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    _fsync_dir(path.parent)
+
+
+class MPICheckpointWriter:
+    """A Simulation callback (collective) writing a checkpoint of every rank and its manifest,
+    keeping the newest `keep`.
+
+    Parameters
+    ----------
+    out_dir : path
+        Run directory (shared by the ranks).
+    case_toml : str
+        The resolved case file text.
+    keep : int
+        Checkpoints kept.
+    comm : mpi4py communicator
+    log : logging.Logger, optional
+        Rank 0's run log.
+    escaped : EscapedRecorder, optional
+        This rank's escaped-particle recorder (its CSV length is saved).
+    """
+
+    def __init__(self, out_dir, case_toml, keep, comm, log=None, escaped=None):
+        self.out_dir = Path(out_dir)
+        self.case_toml = case_toml
+        self.keep = max(1, int(keep))
+        self.comm = comm
+        self.log = log
+        self.escaped = escaped
+        self.last_step = None
+        self.last_path = None
+        self.written = 0
+
+    def __call__(self, sim):
+        self.write(sim)
+
+    def write(self, sim):
+        """Write a checkpoint of `sim` now (once per step, collective); returns the manifest's path."""
+        from .run import _collective_check, _write_error
+
+        if self.last_step == sim.step_count and self.last_path is not None:
+            return self.last_path
+        t0 = _time.perf_counter()
+        rank, size = self.comm.Get_rank(), self.comm.Get_size()
+        nbytes = 0
+        if self.escaped is not None:
+            self.escaped.file.flush()
+            nbytes = os.fstat(self.escaped.file.fileno()).st_size
+        path = rank_path(self.out_dir, sim.step_count, rank)
+        msg, digest = None, None
+        try:
+            write_checkpoint(path, capture_rank(sim, self.case_toml, nbytes))
+            digest = _stored_digest(path)
+        except OSError as err:
+            msg = _write_error(err, path)
+        _collective_check(self.comm, msg)
+        digests = self.comm.gather((path.name, digest, path.stat().st_size), root=0)
+        man = manifest_path(self.out_dir, sim.step_count)
+        msg = None
+        if rank == 0:
+            obj = {"format": FORMAT, "version": VERSION, "ranks": size, "step": int(sim.step_count),
+                   "time": float(sim.time), "cuts": [float(c) for c in sim.model.cuts[1:-1]],
+                   "files": [d[0] for d in digests], "sha256": [d[1] for d in digests],
+                   "written": _time.strftime("%Y-%m-%dT%H:%M:%S")}
+            try:
+                _write_json(man, obj)
+            except OSError as err:
+                msg = _write_error(err, man)
+        _collective_check(self.comm, msg)
+        self.last_step, self.last_path = sim.step_count, man
+        self.written += 1
+        if rank == 0:
+            self._prune()
+            if self.log is not None:
+                self.log.info("checkpoint %s: step %d, t = %.9g s, %d rank files, %.1f MiB in %.2f s", man.name,
+                              sim.step_count, sim.time, size, sum(d[2] for d in digests) / 2**20,
+                              _time.perf_counter() - t0)
+        return man
+
+    def _prune(self):
+        """Remove the manifests older than the newest `keep` and their rank files, then any rank
+        file older than the oldest kept manifest (left by a crash mid-write)."""
+        mans = list_manifests(self.out_dir)
+        kept = mans[: self.keep]
+        for old in mans[self.keep:]:
+            files = []
+            try:
+                files = json.loads(old.read_text()).get("files", [])
+            except (OSError, ValueError):
+                pass
+            try:
+                old.unlink()
+            except OSError:
+                pass
+            for name in files:
+                try:
+                    (self.out_dir / name).unlink()
+                except OSError:
+                    pass
+        if kept:
+            oldest = int(MPI_MANIFEST.match(kept[-1].name).group(1))
+            for p in self.out_dir.iterdir():
+                m = MPI_RANK_FILE.match(p.name)
+                if m and int(m.group(1)) < oldest:
+                    try:
+                        p.unlink()
+                    except OSError:
+                        pass
+
+
+def find_resume(out_dir, comm, warn=None):
+    """The newest checkpoint every rank can read (collective).
+
+    Parameters
+    ----------
+    out_dir : path
+        The run directory.
+    comm : mpi4py communicator
+    warn : callable, optional
+        ``warn(message)`` on rank 0 for each checkpoint skipped.
+
+    Returns
+    -------
+    (Path, dict, Checkpoint)
+        The manifest, its contents, and this rank's checkpoint.
+
+    Raises
+    ------
+    InputError
+        (On every rank alike.) No checkpoint; one written by another number
+        of ranks (the message names both counts) or by one process; none
+        readable on every rank.
+    """
+    out_dir = Path(out_dir)
+    rank, size = comm.Get_rank(), comm.Get_size()
+    found, message = [], None
+    if rank == 0:
+        for p in list_manifests(out_dir):
+            try:
+                obj = json.loads(p.read_text())
+                if obj.get("format") != FORMAT or obj.get("version") != VERSION:
+                    raise ValueError(f"not a {FORMAT} version {VERSION} manifest")
+                int(obj["ranks"]), list(obj["files"]), list(obj["sha256"])
+            except (OSError, ValueError, KeyError, TypeError) as err:
+                if warn is not None:
+                    warn(f"checkpoint {p} skipped: its manifest cannot be read ({err}); falling back to the "
+                         "previous one")
+                continue
+            found.append((str(p), obj))
+        if not found:
+            single = list_checkpoints(out_dir)
+            if single:
+                message = (f"the checkpoints in {out_dir} ({single[0].name}) were written by 1 process and this run "
+                           f"has {size} MPI ranks: resume it on one process (shoal run --resume {out_dir})")
+            else:
+                message = f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from"
+        elif int(found[0][1]["ranks"]) != size:
+            r = int(found[0][1]["ranks"])
+            message = (f"the checkpoint {Path(found[0][0]).name} in {out_dir} was written by {r} MPI ranks and "
+                       f"this run has {size}: resume it with mpiexec -n {r} (a checkpoint is resumed on the number "
+                       "of ranks that wrote it)")
+    found, message = comm.bcast((found, message), root=0)
+    if message:
+        raise InputError(message)
+    for p, obj in found:
+        p = Path(p)
+        if int(obj["ranks"]) != size:
+            break  # an older checkpoint of another rank count: not usable either
+        msg, ck = None, None
+        try:
+            f = out_dir / obj["files"][rank]
+            ck = read_checkpoint(f)
+            if _stored_digest(f) != obj["sha256"][rank]:
+                raise CheckpointError(f"{f.name} is not the file {p.name} names (another checksum)")
+            mpi = ck.meta.get("mpi", {})
+            if mpi.get("rank") != rank or mpi.get("size") != size:
+                raise CheckpointError(f"{f.name} is rank {mpi.get('rank')} of {mpi.get('size')}, not {rank} of {size}")
+        except CheckpointError as err:
+            msg = str(err)
+        except OSError as err:
+            msg = f"{obj['files'][rank]} cannot be read ({err.strerror or err})"
+        msgs = comm.allgather(msg)
+        bad = [(r, m) for r, m in enumerate(msgs) if m]
+        if not bad:
+            return p, obj, ck
+        if warn is not None and rank == 0:
+            warn(f"checkpoint {p.name} skipped: rank {bad[0][0]}: {bad[0][1]}; falling back to the previous one")
+    names = ", ".join(Path(p).name for p, _ in found)
+    raise InputError(f"none of the checkpoints in {out_dir} ({names}) is readable on every rank; the run cannot be "
+                     "resumed")
+
+
+def restore_rank(sim, ck):
+    """Put this rank's checkpoint `ck` into `sim` (a Simulation of a `DistributedModel` built
+    from the same case, with the same callbacks in the same order).
+
+    Raises
+    ------
+    CheckpointError
+        The checkpoint does not match the model or the Simulation.
+    """
+    m = sim.model
+    mm = ck.meta["model"]
+    if mm["n_total"] != m.n_global or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
+        raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
+                              f"this case has {m.n_global} ({m.dim}D, {np.dtype(m.dtype).str})")
+    arrays = {k[len("mpi/"):]: v for k, v in ck.other.items() if k.startswith("mpi/")}
+    try:
+        m.restore_checkpoint(int(mm["n"]), ck.particles, ck.extra, ck.meta["mpi"], arrays)
+    except (ValueError, KeyError) as err:
+        raise CheckpointError(f"{ck.path.name}: {err}") from None
+    restore_scalars(sim, ck)
+
+
+def set_aside_newer(out_dir, step):
+    """Rename manifests and rank files newer than `step` (skipped as damaged) to ``*.bad``
+    and remove temporary files, so the resumed run never mistakes them for its own (rank 0)."""
+    for p in Path(out_dir).iterdir():
+        m = MPI_MANIFEST.match(p.name) or MPI_RANK_FILE.match(p.name)
+        if m and int(m.group(1)) > step:
+            os.replace(p, p.with_name(p.name + ".bad"))
+        elif re.match(r"^ckpt_\d+\.(mpi\.json|rank\d+\.h5)\.tmp$", p.name):
+            p.unlink()
+
+
+class CollectiveSchedule:
+    """A schedule whose decision is rank 0's (broadcast): for the wall-clock part of the
+    checkpoint schedule, which the ranks' clocks would otherwise decide apart. Every
+    rank still asks its own schedule, so their counters advance alike."""
+
+    def __init__(self, inner, comm):
+        self.inner = inner
+        self.comm = comm
+
+    def next_time(self):
+        return self.inner.next_time()
+
+    def due(self, sim):
+        return bool(self.comm.bcast(bool(self.inner.due(sim)), root=0))
+
+    def get_state(self):
+        return self.inner.get_state()
+
+    def set_state(self, state):
+        self.inner.set_state(state)
