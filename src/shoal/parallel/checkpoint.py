@@ -22,8 +22,16 @@ every rank reads and verifies its own file against the manifest; if any
 rank's file is missing or damaged, the previous manifest is tried (with a
 one-line warning). The state is put back row for row, so a resumed run
 on the same number of ranks continues **bitwise** as if it had never
-stopped (the ranks compute in the same order on the same data). Resuming on
-another number of ranks is refused with one line naming both counts.
+stopped (the ranks compute in the same order on the same data).
+
+Another number of ranks, or a single-process run's checkpoint
+(``ckpt_NNNNNN.h5``): every rank reads every file, takes the union of the
+owned particles (with their integrator state), cuts the slabs afresh at the
+weighted quantiles and keeps its own; the probes' and snapshots' state comes
+from rank 0's file (the same on every rank). The run then continues as a
+run on the new rank count would, equal to the uninterrupted run to
+round-off (not bitwise: the pair sums are summed in another order).
+Whichever of the two kinds of checkpoint is newest is resumed.
 """
 
 from __future__ import annotations
@@ -225,9 +233,14 @@ def find_resume(out_dir, comm, warn=None):
     Raises
     ------
     InputError
-        (On every rank alike.) No checkpoint; one written by another number
-        of ranks (the message names both counts) or by one process; none
-        readable on every rank.
+        (On every rank alike.) No checkpoint, or none readable on every rank.
+
+    Notes
+    -----
+    A checkpoint of another rank count, or of a single-process run, comes
+    back as the union of its active particles (``meta["mpi"]["redistribute"]``;
+    the manifest contents are None for a single-process one), which
+    `restore_rank` re-distributes over the ranks.
     """
     out_dir = Path(out_dir)
     rank, size = comm.Get_rank(), comm.Get_size()
@@ -245,38 +258,37 @@ def find_resume(out_dir, comm, warn=None):
                          "previous one")
                 continue
             found.append((str(p), obj))
-        if not found:
-            single = list_checkpoints(out_dir)
-            if single:
-                message = (f"the checkpoints in {out_dir} ({single[0].name}) were written by 1 process and this run "
-                           f"has {size} MPI ranks: resume it on one process (shoal run --resume {out_dir})")
-            else:
-                message = f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from"
-        elif int(found[0][1]["ranks"]) != size:
-            r = int(found[0][1]["ranks"])
-            message = (f"the checkpoint {Path(found[0][0]).name} in {out_dir} was written by {r} MPI ranks and "
-                       f"this run has {size}: resume it with mpiexec -n {r} (a checkpoint is resumed on the number "
-                       "of ranks that wrote it)")
+        single = list_checkpoints(out_dir)
+        if not found and not single:
+            message = f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from"
+        elif single and found and _step(single[0]) > _step(Path(found[0][0])):
+            found = []  # a single-process checkpoint is the newest state
     found, message = comm.bcast((found, message), root=0)
     if message:
         raise InputError(message)
+    if not found:  # a single-process run's checkpoint: re-distributed over the ranks
+        from ..simulation.checkpoint import latest_checkpoint
+
+        single = latest_checkpoint(out_dir, warn=warn if rank == 0 else None)  # the same on every rank
+        return single.path, None, _from_single(single, rank)
     for p, obj in found:
         p = Path(p)
-        if int(obj["ranks"]) != size:
-            break  # an older checkpoint of another rank count: not usable either
         msg, ck = None, None
         try:
-            f = out_dir / obj["files"][rank]
-            ck = read_checkpoint(f)
-            if _stored_digest(f) != obj["sha256"][rank]:
-                raise CheckpointError(f"{f.name} is not the file {p.name} names (another checksum)")
-            mpi = ck.meta.get("mpi", {})
-            if mpi.get("rank") != rank or mpi.get("size") != size:
-                raise CheckpointError(f"{f.name} is rank {mpi.get('rank')} of {mpi.get('size')}, not {rank} of {size}")
+            if int(obj["ranks"]) == size:
+                f = out_dir / obj["files"][rank]
+                ck = _read_rank_file(f, obj["sha256"][rank], p)
+                mpi = ck.meta.get("mpi", {})
+                if mpi.get("rank") != rank or mpi.get("size") != size:
+                    raise CheckpointError(f"{f.name} is rank {mpi.get('rank')} of {mpi.get('size')}, not {rank} "
+                                          f"of {size}")
+            else:  # written by another number of ranks: every rank reads every file, then keeps its new slab
+                ck = _from_ranks([_read_rank_file(out_dir / f, d, p) for f, d in zip(obj["files"], obj["sha256"])],
+                                 p, rank)
         except CheckpointError as err:
             msg = str(err)
         except OSError as err:
-            msg = f"{obj['files'][rank]} cannot be read ({err.strerror or err})"
+            msg = f"{p.name}: a rank file cannot be read ({err.strerror or err})"
         msgs = comm.allgather(msg)
         bad = [(r, m) for r, m in enumerate(msgs) if m]
         if not bad:
@@ -286,6 +298,101 @@ def find_resume(out_dir, comm, warn=None):
     names = ", ".join(Path(p).name for p, _ in found)
     raise InputError(f"none of the checkpoints in {out_dir} ({names}) is readable on every rank; the run cannot be "
                      "resumed")
+
+
+def _step(path):
+    return int(Path(path).name.split("_")[1].split(".")[0])
+
+
+def _read_rank_file(path, digest, manifest):
+    ck = read_checkpoint(path)
+    if _stored_digest(path) != digest:
+        raise CheckpointError(f"{path.name} is not the file {manifest.name} names (another checksum)")
+    return ck
+
+
+# the per-particle arrays a DistributedModel saves (`checkpoint_arrays`; xsph, tau, vwall when in use)
+_PARTICLE_NAMES = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax", "pr2", "xsph", "tau", "vwall")
+
+
+def _union(path, first, parts, rank, escaped_bytes, n_escaped, sort_count, rebalances, source):
+    """A Checkpoint holding the active particles of every part (``(ck, rows, n_integrator)``),
+    marked for re-distribution over the ranks (`restore_rank` keeps this rank's slab)."""
+    from ..simulation.checkpoint import Checkpoint
+
+    names = [k for k in _PARTICLE_NAMES if k in first.particles]
+    particles = {k: np.concatenate([c.particles[k][rows] for c, rows, _ in parts]) for k in names}
+    n_int = parts[0][2]
+    extra = [np.concatenate([c.extra[i][rows] for c, rows, _ in parts]) for i in range(n_int)]
+    meta = json.loads(json.dumps(first.meta))
+    meta["model"]["n"] = int(len(particles["pos"]))
+    meta["mpi"] = {"redistribute": True, "source": source, "n_escaped": int(n_escaped), "sort_count": int(sort_count),
+                   "rebalances": rebalances, "escaped_bytes": int(escaped_bytes)}
+    return Checkpoint(Path(path), meta, first.case_toml, particles, extra, first.callbacks, {})
+
+
+def _from_ranks(cks, path, rank):
+    """The union of the owned particles of the rank files `cks` (another rank count)."""
+    parts = [(c, np.flatnonzero(c.extra[-1] == 0), len(c.extra) - 1) for c in cks]  # ghost flags: the last array
+    mpis = [c.meta["mpi"] for c in cks]
+    escaped = mpis[rank]["escaped_bytes"] if rank < len(cks) else 0
+    return _union(path, cks[0], parts, rank, escaped, sum(c.meta["model"]["n_escaped"] for c in cks),
+                  mpis[0]["sort_count"], mpis[0].get("rebalances", []), f"{len(cks)} MPI ranks")
+
+
+def _from_single(ck, rank):
+    """The active particles of a single-process checkpoint `ck`, to re-distribute."""
+    n = int(ck.meta["model"]["n"])
+    escaped = 0
+    if rank == 0:
+        for cb in ck.meta["callbacks"]:
+            if cb["name"] == "escaped":
+                escaped = int(cb.get("state", {}).get("file_bytes", 0))
+    return _union(ck.path, ck, [(ck, np.arange(n), len(ck.extra))], rank, escaped, ck.meta["model"]["n_escaped"],
+                  int(ck.meta["step_count"]) + 1, [], "1 process")
+
+
+class CollectiveInputError(InputError):
+    """An InputError every rank raises together."""
+
+    collective = True
+
+
+def _restore_redistributed(sim, ck):
+    """Keep this rank's slab of the union `ck` (`_union`) at cuts computed afresh."""
+    from ..physics.spec import FLUID
+    from ..simulation.checkpoint import Checkpoint
+    from .decomposition import slab_cuts
+    from .model import BOUNDARY_WEIGHT
+
+    m = sim.model
+    x = ck.particles["pos"][:, 0].astype(np.float64)
+    w = np.where(ck.particles["kind"] == FLUID, 1.0, BOUNDARY_WEIGHT)
+    try:
+        cuts = slab_cuts(x, w, m.mpi_size, m.halo_width)
+    except InputError as err:
+        raise CollectiveInputError(f"cannot resume on {m.mpi_size} ranks: {err}") from None
+    r = m.mpi_rank
+    sel = np.flatnonzero((x >= cuts[r]) & (x < cuts[r + 1]))
+    names = set(m.checkpoint_arrays())
+    missing = sorted(names - set(ck.particles))
+    if missing:
+        raise CheckpointError(f"{ck.path.name} lacks the particle arrays {', '.join(missing)}")
+    particles = {k: ck.particles[k][sel] for k in names}
+    extra = [e[sel] for e in ck.extra] + [np.zeros(len(sel), np.int8)]  # the ghost flags: none yet
+    mpi = ck.meta["mpi"]
+    scalars = {"n_owned": len(sel), "n_ghost": 0, "ghost_counts": [0, 0], "sort_count": mpi["sort_count"],
+               "halo_fresh": False, "rebalances": mpi["rebalances"]}
+    empty = np.zeros(0, np.int64)
+    try:
+        m.restore_checkpoint(len(sel), particles, extra, scalars,
+                             {"cuts": cuts, "send_left": empty, "send_right": empty, "ghost_rows": empty})
+    except (ValueError, KeyError) as err:
+        raise CheckpointError(f"{ck.path.name}: {err}") from None
+    meta = json.loads(json.dumps(ck.meta))
+    meta["model"]["n"] = len(sel)
+    meta["model"]["n_escaped"] = mpi["n_escaped"] if r == 0 else 0
+    restore_scalars(sim, Checkpoint(ck.path, meta, ck.case_toml, {}, extra, ck.callbacks, {}))
 
 
 def restore_rank(sim, ck):
@@ -302,6 +409,8 @@ def restore_rank(sim, ck):
     if mm["n_total"] != m.n_global or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
         raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
                               f"this case has {m.n_global} ({m.dim}D, {np.dtype(m.dtype).str})")
+    if ck.meta["mpi"].get("redistribute"):
+        return _restore_redistributed(sim, ck)
     arrays = {k[len("mpi/"):]: v for k, v in ck.other.items() if k.startswith("mpi/")}
     try:
         m.restore_checkpoint(int(mm["n"]), ck.particles, ck.extra, ck.meta["mpi"], arrays)

@@ -17,7 +17,9 @@ Checkpoints (`shoal.parallel.checkpoint`): every rank writes its own
 ``ckpt_NNNNNN.rank<RRRR>.h5`` and rank 0 the ``ckpt_NNNNNN.mpi.json``
 manifest, on the case's schedule (simulated time, and wall-clock time as
 rank 0's clock says) and at the end; ``--resume`` continues the run on the
-same number of ranks, bitwise (another rank count: one line, exit 2).
+same number of ranks, bitwise; on another number of ranks, or from a
+single-process run's checkpoint, the particles are re-distributed (equal to
+round-off).
 
 Not yet under MPI (refused with one line): trackers, max-z and run-up
 gauges, the CUDA backend, periodic x. Stop signals are not caught
@@ -323,9 +325,10 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
 
 
 def _resume_point(case, out_dir, comm):
-    """(manifest path, manifest, this rank's Checkpoint) to resume the run in `out_dir` from
-    (collective; InputError on every rank alike: no usable checkpoint, another rank count,
-    another case, a finished run)."""
+    """(path, this rank's Checkpoint, warnings) to resume the run in `out_dir` from: the path is
+    the manifest (or the single-process checkpoint re-distributed), the checkpoint this rank's
+    file (or the union to re-distribute) (collective; InputError on every rank alike: no usable
+    checkpoint, another case, a finished run)."""
     from ..runner import _same_case, _warn
     from .checkpoint import find_resume
 
@@ -479,8 +482,10 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         ckw.last_step, ckw.last_path = ck.step, man
         logged[0] = len(model.rebalances)
         if log is not None:
-            log.info("resumed from %s (%d ranks): step %d, t = %.9g s, dt %.6g s, slab cuts x = %s m; run to "
-                     "t = %g s", man.name, size, ck.step, ck.time, sim.dt or 0.0,
+            source = ck.meta["mpi"].get("source")
+            how = f"written by {source}, re-distributed over {size} ranks" if source else f"{size} ranks"
+            log.info("resumed from %s (%s): step %d, t = %.9g s, dt %.6g s, slab cuts x = %s m; run to "
+                     "t = %g s", man.name, how, ck.step, ck.time, sim.dt or 0.0,
                      ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), case.end_time)
     t0 = _time.perf_counter()
     try:

@@ -439,12 +439,15 @@ def latest_checkpoint(out_dir, warn=None):
     if none is usable.
     """
     files = list_checkpoints(out_dir)
-    if not files:
+    mpi_newest = max((int(m.group(1)) for p in Path(out_dir).iterdir() if (m := MPI_MANIFEST.match(p.name))),
+                     default=-1) if Path(out_dir).is_dir() else -1
+    if not files or mpi_newest > int(_NAME.match(files[0].name).group(1)):
         ranks = mpi_checkpoint_ranks(out_dir)
         if ranks:
             raise InputError(f"the checkpoints in {out_dir} were written by {ranks} MPI ranks and this run has 1 "
                              f"process: resume it with mpiexec -n {ranks} shoal run --resume {out_dir}")
-        raise InputError(f"{out_dir} holds no checkpoint (ckpt_NNNNNN.h5) to resume from")
+        if not files:
+            raise InputError(f"{out_dir} holds no checkpoint (ckpt_NNNNNN.h5) to resume from")
     for p in files:
         try:
             return read_checkpoint(p)
