@@ -15,8 +15,10 @@ the environment: the single-process path is unchanged.
   unbalanced (on a schedule), receives a fresh halo and re-sorts;
   ``compute_rates`` refreshes the halo values first (every stage of every
   integrator); the time step is an MPI min.
-- `run`: `run_case_mpi`, the run with rank-0 output (gathered snapshots,
-  gauges and probes).
+- `checkpoint`: per-rank checkpoint files and their manifest; ``--resume`` on
+  the same number of ranks (bitwise) or another (re-distributed).
+- `run`: `run_case_mpi`, the run: per-rank VTU pieces and a ``.pvtu`` per
+  snapshot, gauges and probes written by rank 0, checkpoints.
 """
 
 from __future__ import annotations
