@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from shoal.analysis import arrival_time, bore_from_inflow, celerity
+from shoal.errors import InputError
 
 
 @pytest.mark.parametrize("U", [0.3, 0.7, 1.5])
@@ -55,3 +56,32 @@ def test_undulations_count_secondary_waves_not_noise():
     smooth = d0 + (d1 - d0) * 0.5 * (1 + np.tanh((t - ta) / 0.05)) + 0.0005 * rng.standard_normal(len(t))
     n, first = undulations(t, smooth, ta, d1)
     assert n == 0 and abs(first) < 0.03
+
+
+def test_crest_speed_ratio_of_a_linear_wave_is_ka_coth_kd():
+    """Under a linear progressive wave eta = a cos(kx) (Airy), u = a w cosh(k z) / sinh(k d) cos(kx) with
+    z from the bed: the crest's surface particle at z = d + a moves at a w cosh(k (d + a)) / sinh(k d), so
+    the index is that over c = w / k; particles below the mid level d0 + (d1 - d0)/2 are ignored, and a
+    wave travelling towards -x is measured along -x."""
+    from shoal.analysis import crest_speed_ratio
+    from shoal.motions import wavenumber
+
+    T, d, a = 1.2, 0.4, 0.03
+    k = wavenumber(T, d)
+    w = 2 * np.pi / T
+    x = np.linspace(0, 2 * np.pi / k, 201)
+    zs = np.linspace(0, 1, 21)
+    X, S = np.meshgrid(x, zs)
+    Z = S * (d + a * np.cos(k * X))  # columns from the bed to the surface
+    U = a * w * np.cosh(k * Z) / np.sinh(k * d) * np.cos(k * X)
+    pos = np.column_stack([X.ravel(), 0 * X.ravel(), Z.ravel()])
+    vel = np.column_stack([U.ravel(), 0 * X.ravel(), 0 * X.ravel()])
+    expected = a * w * np.cosh(k * (d + a)) / np.sinh(k * d) / (w / k)
+    # d0 = d - a, d1 = d + a: the raised water is the top half of the wave
+    assert crest_speed_ratio(pos, vel, d - a, d + a, w / k) == pytest.approx(expected, rel=1e-12)
+    assert expected == pytest.approx(0.123, abs=1e-3)  # ka coth(kd) = 0.113, times cosh(k(d+a))/cosh(kd): far from breaking
+    back = vel * -1
+    assert crest_speed_ratio(pos, back, d - a, d + a, w / k, direction=-1.0) == pytest.approx(expected, rel=1e-12)
+    assert crest_speed_ratio(pos, vel, d + 2 * a, d + 3 * a, w / k) == 0.0  # nothing above the mid level
+    with pytest.raises(InputError, match="celerity"):
+        crest_speed_ratio(pos, vel, d - a, d + a, 0.0)

@@ -1,6 +1,6 @@
 """Analysis of simulation results against reference data."""
 
-from .bore import arrival_time, bore_from_inflow, celerity, level_behind, undulations
+from .bore import arrival_time, bore_from_inflow, celerity, level_behind, undulations, crest_speed_ratio
 from .front import surge_front
 from .mean_flow import depth_average, mse, period_average, rmse, set_up, vorticity
 from .reference import load_reference, mean_relative_error
@@ -8,5 +8,5 @@ from .waves import ReflectionAnalysis, WaveStatistics, harmonic_amplitude, phase
 
 __all__ = ["surge_front", "load_reference", "mean_relative_error", "period_average", "depth_average", "set_up",
            "vorticity", "rmse", "mse", "bore_from_inflow", "arrival_time", "celerity",
-           "level_behind", "undulations", "wave_statistics", "phase_speed", "WaveStatistics",
+           "level_behind", "undulations", "crest_speed_ratio", "wave_statistics", "phase_speed", "WaveStatistics",
            "reflection_analysis", "harmonic_amplitude", "ReflectionAnalysis"]

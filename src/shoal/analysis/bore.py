@@ -109,3 +109,42 @@ def undulations(times, levels, t_arrival, d1, window=1.0):
             elif v > low + tol:
                 rising, high = True, v
     return crests, float((zw.max() - d1) / d1)
+
+
+def crest_speed_ratio(positions, velocities, depth, d1, celerity, direction=1.0, dim_z=2):
+    """The kinematic breaking index of a bore: the largest horizontal particle
+    speed in the bore's direction in the raised water, over the bore's celerity.
+
+    A wave front breaks when its crest's water overtakes the front, i.e. when
+    the horizontal velocity of crest particles reaches the crest's speed
+    (the kinematic breaking criterion: Perlin, Choi & Tian 2013, Ann. Rev.
+    Fluid Mech. 45; for bores, the roller's surface flow outruns the toe:
+    Chanson 2009). Water in the raised layer, z > d0 + (d1 - d0) / 2, is
+    searched, in the ground frame, where the bore travels at `celerity`
+    along `direction` (+1 or -1 along x). B = max(u_x direction) / c: an
+    undular bore has B well below 1 (its orbital velocities are a fraction
+    of c), a breaking bore's plunging crest B >= 1.
+
+    Parameters
+    ----------
+    positions, velocities : (n, 3) arrays
+        Fluid particles' positions [m] and velocities [m/s].
+    depth, d1 : float
+        Depth ahead of the bore d0 and conjugate depth d1 [m] (Belanger,
+        `bore_from_inflow`).
+    celerity : float
+        The bore's celerity c [m/s], ground frame.
+
+    Returns
+    -------
+    float
+        B (0 when no water is above the mid level).
+    """
+    p = np.asarray(positions, float)
+    v = np.asarray(velocities, float)
+    if not celerity > 0:
+        raise InputError(f"celerity = {celerity!r}; it must be positive")
+    up = p[:, dim_z] > depth + 0.5 * (d1 - depth)
+    if not up.any():
+        return 0.0
+    return float(np.max(direction * v[up, 0]) / celerity)
