@@ -29,17 +29,30 @@ import numpy as np
 import pytest
 
 import shoal
-from shoal.analysis import arrival_time, bore_from_inflow, celerity, level_behind, undulations
+from shoal.analysis import arrival_time, bore_from_inflow, celerity, crest_speed_ratio, level_behind, undulations
 from shoal.cases import tidal_bore
+from shoal.cases.tidal_bore import PAPER_OPTIONS
+from shoal.options import SPHOptions
+from shoal.output.vtu import read_vtu
+from shoal.physics.spec import FLUID
 
 D0 = 0.1
 
 
-def run_bore(U, dp, end_time, tmp_path):
-    case = tidal_bore(dp=dp, inflow_speed=U, dim=2, end_time=end_time, output_interval=end_time)
+LOW_ALPHA = dict(PAPER_OPTIONS, alpha=0.02)
+"""The paper's scheme with alpha = 0.02 (the paper gives no alpha; the built-in cases use 0.1): with 0.1
+the 2D front of the U = 0.7 m/s bore is smoothed and never breaks (crest water at most 0.27 c at
+dp = d0/10), with 0.02 it breaks."""
+
+
+def run_bore(U, dp, end_time, tmp_path, options=None, breaking=False):
+    """Run the 2D bore; with `breaking`, snapshots every 0.05 s give the kinematic breaking index."""
+    opts = SPHOptions(**options) if options else None
+    every = 0.05 if breaking else end_time
+    case = tidal_bore(dp=dp, inflow_speed=U, dim=2, end_time=end_time, output_interval=every, options=opts)
+    c, d1, fr = bore_from_inflow(U, D0)
     res = shoal.run_case(case, tmp_path / f"bore_{U}", plot=False)
     assert res.escaped == 0
-    c, d1, fr = bore_from_inflow(U, D0)
     xs, arrivals, records = [], [], {}
     for name, x in (("x0.5", 0.5), ("x1.0", 1.0), ("x1.5", 1.5)):
         data = np.loadtxt(tmp_path / f"bore_{U}" / f"gauge_{name}.csv", delimiter=",", skiprows=1)
@@ -55,15 +68,37 @@ def run_bore(U, dp, end_time, tmp_path):
     print(f"U = {U} m/s, dp = {dp} m: celerity {cm:.4f} m/s vs {c:.4f} ({(cm - c) / c:+.2%}), level behind the "
           f"front {level:.4f} m vs d1 = {d1:.4f} ({(level - d1) / d1:+.2%}); first crest {first:+.2%} over d1, "
           f"{n_crests} crest(s); {res.steps} steps, {res.wall_seconds:.0f} s")
-    return (cm - c) / c, (level - d1) / d1, n_crests, first
+    index = float("nan")
+    if breaking:
+        series = []
+        for f in sorted((tmp_path / f"bore_{U}").glob("tidal-bore_*.vtu")):
+            pts, data = read_vtu(f)
+            fluid = data["kind"] == FLUID
+            series.append(crest_speed_ratio(pts[fluid], data["velocity"][fluid], D0, d1, c))
+        index = max(series)
+        print(f"  breaking index max(u_crest) / c every 0.05 s: {' '.join(f'{b:.2f}' for b in series)}")
+    return (cm - c) / c, (level - d1) / d1, n_crests, first, index
 
 
-def test_undular_bore_quick(tmp_path):
-    """U = 0.3 m/s at dp = d0/10 (to t = 1.3 s: the bore has passed the 0.5 and 1.0 m gauges).
-    Measured: celerity -0.8 %, level +1.1 %; an undular front (first crest 6.5 % above d1)."""
-    dc, dl, n, first = run_bore(0.3, 0.01, 1.3, tmp_path)
+@pytest.mark.parametrize("U,end_time", [(0.3, 1.3), (0.7, 1.6)])
+def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
+    """Issue 5 item 2 with one scheme (`LOW_ALPHA`) at dp = d0/10: both bores within 3 % of the
+    Belanger celerity and conjugate depth; the U = 0.3 m/s bore (Fr 1.24) undular -- secondary crests,
+    the first above d1, its water far slower than the front (breaking index B = max u_crest / c well
+    below 1) -- and the U = 0.7 m/s bore (Fr 1.59) breaking: its crest water overtakes the front (B >= 1,
+    the kinematic breaking criterion; `shoal.analysis.crest_speed_ratio`).
+
+    Measured (2026-12-02, d0/10): U = 0.3 m/s: celerity -1.8 %, level +1.2 %, first crest 8.5 % above d1,
+    B = 0.24 at most; U = 0.7 m/s: celerity -2.2 %, level -1.4 %, B above 1 from t = 1.2 s, up to 1.78.
+    With alpha = 0.1 (the built-in default; U = 0.3 m/s at d0/10: celerity -0.8 %, level +1.1 %, first
+    crest 6.5 % above d1, and at d0/20 in `test_bore_celerity_and_conjugate_depth`) the U = 0.7 m/s bore
+    has B <= 0.27: it never breaks."""
+    dc, dl, n, first, index = run_bore(U, 0.01, end_time, tmp_path, options=LOW_ALPHA, breaking=True)
     assert abs(dc) < 0.03 and abs(dl) < 0.03
-    assert n >= 1 and first > 0.03  # secondary waves: the first crest stands above the conjugate depth
+    if U < 0.5:
+        assert n >= 1 and first > 0.03 and index < 0.5
+    else:
+        assert index >= 1.0
 
 
 @pytest.mark.validation
@@ -78,7 +113,7 @@ def test_bore_celerity_and_conjugate_depth(U, tmp_path):
     secondary crests, and near the front no particle moves faster than a quarter of the bore's
     celerity (no overturning, the kinematic breaking criterion; checked at dp = d0/10), so breaking
     is not asserted -- an open item (the paper's breaking bore is 3D, with SPS)."""
-    dc, dl, n, first = run_bore(U, 0.005, 1.6, tmp_path)
+    dc, dl, n, first, _ = run_bore(U, 0.005, 1.6, tmp_path)
     assert abs(dc) < 0.03 and abs(dl) < 0.03
     if U < 0.5:
         assert n >= 1 and first > 0.03
