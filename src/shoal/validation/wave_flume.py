@@ -43,7 +43,7 @@ class WaveFlume(ValidationCase):
 
     name = "wave-flume"
     title = "Piston wavemaker vs Biesel and linear dispersion (wave-flume-2d)"
-    cost = 1560.0  # measured 26 min (one thread, the other core busy)
+    cost = 1800.0  # 26 min to t = 11.2 s on one thread; to 13.2 s (the reflection window): 43 min at load 5
     setup = ("`wave-flume-2d`: a piston paddle at x = 0 driven as X(t) = r(t) (S/2) sin(omega t) with the "
              "stroke S from Biesel's transfer function for the target height H, a cosine ramp r(t) over 2 "
              "periods, water of depth d = 0.4 m, a damping zone (`[[damping]]`, rate 10 1/s) from 4.5 m to "
