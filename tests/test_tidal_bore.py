@@ -92,7 +92,11 @@ def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
     B = 0.24 at most; U = 0.7 m/s: celerity -2.2 %, level -1.4 %, B above 1 from t = 1.2 s, up to 1.78.
     With alpha = 0.1 (the built-in default; U = 0.3 m/s at d0/10: celerity -0.8 %, level +1.1 %, first
     crest 6.5 % above d1, and at d0/20 in `test_bore_celerity_and_conjugate_depth`) the U = 0.7 m/s bore
-    has B <= 0.27: it never breaks."""
+    has B <= 0.27: it never breaks. At d0/20 (2026-12-02, 34 min on a loaded thread) the same scheme breaks
+    earlier and harder (B > 1 from t = 0.55 s, up to 1.94; level -1.1 %) but the front, timed between the
+    0.5 and 1.0 m gauges only (the 1.5 m gauge is reached after 1.6 s), runs 24 % fast while the breaking
+    bore forms (0.08 s late at 0.5 m, 0.03 s early at 1.0 m): not asserted here; a longer flume
+    (`tidal_bore(length=...)`) that times the settled front is the next check."""
     dc, dl, n, first, index = run_bore(U, 0.01, end_time, tmp_path, options=LOW_ALPHA, breaking=True)
     assert abs(dc) < 0.03 and abs(dl) < 0.03
     if U < 0.5:
