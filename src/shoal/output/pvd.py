@@ -8,6 +8,8 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from .atomic import write_text_atomic
+
 __all__ = ["PVDWriter"]
 
 
@@ -80,18 +82,7 @@ class PVDWriter:
                 file=filename,
             )
         ET.indent(root)
-        tmp = self.path.with_name(self.path.name + ".tmp")
-        try:
-            with open(tmp, "w", encoding="utf-8") as f:
-                f.write('<?xml version="1.0"?>\n')
-                f.write(ET.tostring(root, encoding="unicode"))
-                f.write("\n")
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, self.path)
-        finally:
-            if tmp.exists():
-                tmp.unlink()
+        write_text_atomic(self.path, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
 
     def add(self, time, vtu_filename):
         """Append a snapshot and rewrite the collection file.

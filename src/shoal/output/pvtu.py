@@ -15,6 +15,8 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from .atomic import write_text_atomic
+
 import numpy as np
 
 __all__ = ["pvtu_layout", "pvtu_pieces", "read_pvtu", "write_pvtu"]
@@ -88,19 +90,7 @@ def write_pvtu(path, pieces, layout):
             p = Path(os.path.relpath(p, path.parent))
         ET.SubElement(grid, "Piece", Source=p.as_posix())
     ET.indent(root)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write('<?xml version="1.0"?>\n')
-            f.write(ET.tostring(root, encoding="unicode"))
-            f.write("\n")
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    return write_text_atomic(path, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
 
 
 def pvtu_pieces(path):

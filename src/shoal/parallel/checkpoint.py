@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..output.atomic import write_text_atomic
 from ..simulation.checkpoint import (MPI_MANIFEST, MPI_RANK_FILE, CheckpointError, _fsync_dir, _text, capture,
                                      list_checkpoints, read_checkpoint, restore_scalars, write_checkpoint)
 
@@ -93,17 +94,7 @@ def capture_rank(sim, case_toml, escaped_bytes=0):
 
 
 def _write_json(path, obj):
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump(obj, f, indent=1)
-            f.write("\n")
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    write_text_atomic(path, json.dumps(obj, indent=1) + "\n")
     _fsync_dir(path.parent)
 
 
