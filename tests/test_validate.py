@@ -322,3 +322,35 @@ def test_wave_flume_reflection_check_on_synthetic_records(tmp_path, kr, passed):
     (refl,) = [m for m in res.metrics if m.name.startswith("reflection coefficient")]
     assert refl.value == pytest.approx(kr, abs=1e-4) and refl.passed is passed
     assert "H_I at x = 0 (extrapolated) +0.0% of Biesel's" in " ".join(res.notes)
+
+
+def test_report_only_twice_writes_each_comparison_note_once(tmp_path):
+    """Each `--report-only` compares a saved case again, and the comparison writes its notes again: the
+    report keeps the run's notes and one copy of the comparison's (a file from before the run's notes
+    were counted loses its repeated copies too)."""
+    from shoal.validation.report import merge_reports
+    from shoal.validation.spheric_test2 import GAUGE_X, SphericTest2, load_reference
+
+    ref = load_reference()
+    t = np.arange(0, 4.0 + 1e-9, 0.005)
+    case = SphericTest2()
+    res = case.new_result(False, "cpu", tmp_path / "figures")
+    late = lambda f: 0.5 * np.interp(t - 0.3, ref["t"], f)  # noqa: E731 - a late, low flow: FAIL notes
+    res.data = dict(gauges={x: (t, late(ref["heights"][x])) for x in GAUGE_X.values()}, tp=t,
+                    pressure={k: late(ref["pressure"][k]) for k in ("P1", "P3")}, dp=0.05, end_time=4.0)
+    case._save(res)
+    res.notes.append("a note of the run")
+    res.run_notes = 1
+    figs, res.passed = case.compare(res)
+    res.figures = figs
+    write_report([res], tmp_path, False, "cpu", 10)
+    compare_notes = res.notes[1:]
+    assert res.passed is False and len(compare_notes) == 2  # what the height and the P1 FAILs say
+    for _ in range(2):
+        assert merge_reports([], tmp_path)[0].notes == ["a note of the run"] + compare_notes
+    saved = json.loads((tmp_path / "results.json").read_text())
+    saved[0].pop("run_notes")  # an older results.json: the copies are told apart by their text
+    saved[0]["notes"] = saved[0]["notes"] + compare_notes
+    (tmp_path / "results.json").write_text(json.dumps(saved))
+    assert merge_reports([], tmp_path)[0].notes == ["a note of the run"] + compare_notes
+    assert (tmp_path / "REPORT.md").read_text().count(compare_notes[0]) == 1

@@ -137,6 +137,7 @@ def run_validation(cases=None, quick=True, backend="cpu", out="runs/validate", l
             res.notes.append(_last_frame(err))
             res.run_seconds = time.perf_counter() - t0
         if res.status == "run":
+            res.run_notes = len(res.notes)  # the notes after these are the comparison's
             try:
                 figs, passed = case.compare(res)
                 res.figures, res.passed = list(figs), bool(passed) if passed is not None else None

@@ -127,6 +127,9 @@ class BridgePiers(ValidationCase):
         res.resolution = f"dp = {dp:g} m = d0/{D0 / dp:.0f}, half width, to t = {t_end:g} s"
         res.particles = ", ".join(f"{k}: {r['particles']:,} ({r['fluid']:,} fluid)" for k, r in runs.items())
         res.data = dict(runs=runs, dp=dp, t_end=t_end)
+        for k, r in runs.items():
+            res.notes.append(f"{k}: {r['steps']:,} steps, {r['seconds']:.0f} s"
+                             + (f", {r['escaped']} particles left the domain" if r.get("escaped") else "") + ".")
         self._save(res)
         return res
 
@@ -179,11 +182,6 @@ class BridgePiers(ValidationCase):
         mean_inc = float(np.mean([peaks[g][2] for g in GAUGES]))
         result.metrics.append(Metric("mean of the three increases", mean_inc, None,
                                      note="for information; paper: around 5-10 %"))
-        for k, r in runs.items():
-            if not r.get("steps"):  # compared again from the saved record: the run's notes are kept
-                continue
-            result.notes.append(f"{k}: {r['steps']:,} steps, {r['seconds']:.0f} s"
-                                + (f", {r['escaped']} particles left the domain" if r.get("escaped") else "") + ".")
         fig = figure(8.0, 6.0)
         for k, g in enumerate(GAUGES):
             ax = fig.add_subplot(3, 1, k + 1)

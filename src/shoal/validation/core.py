@@ -113,6 +113,7 @@ class CaseResult:
     status: str = "run"
     reason: str = ""
     notes: list = field(default_factory=list)
+    run_notes: int | None = None
 
     @property
     def verdict(self):

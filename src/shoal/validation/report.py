@@ -157,7 +157,7 @@ def _jsonable(results):
             "setup": r.setup, "reference": r.reference, "tolerance": r.tolerance,
             "metrics": [{"name": m.name, "value": _num(m.value), "tolerance": m.tolerance, "unit": m.unit,
                          "passed": m.passed, "note": m.note, "lower": m.lower} for m in r.metrics],
-            "figures": [Path(f).name for f in r.figures], "notes": r.notes,
+            "figures": [Path(f).name for f in r.figures], "notes": r.notes, "run_notes": r.run_notes,
         })
     return out
 
@@ -215,7 +215,7 @@ def results_from_json(path):
                        shared=bool(shared), metrics=metrics,
                        figures=[path.parent / "figures" / f for f in e.get("figures", [])],
                        passed={"PASS": True, "FAIL": False}.get(e.get("verdict")), status=e.get("status", "run"),
-                       reason=e.get("reason", ""), notes=notes)
+                       reason=e.get("reason", ""), notes=notes, run_notes=e.get("run_notes"))
         out.append(r)
     return out
 
@@ -238,7 +238,15 @@ def _compare_again(r):
     saved = {k: v for k, v in (r.data or {}).items()}
     r.data = {**saved, **data}
     r.metrics, r.reason = [], ""
+    # the comparison writes its notes again: keep the run's only (older files do not say which they are:
+    # their repeated notes are dropped after the comparison)
+    if r.run_notes is not None:
+        r.notes = r.notes[:r.run_notes]
+    before = len(r.notes)
     figs, passed = case.compare(r)
+    fresh = r.notes[before:]
+    kept = [n for n in dict.fromkeys(r.notes[:before]) if n not in fresh]
+    r.notes, r.run_notes = kept + fresh, len(kept)
     r.figures, r.passed = list(figs), bool(passed) if passed is not None else None
     if r.passed is False:
         r.reason = "outside the tolerance: " + "; ".join(m.name for m in r.metrics if m.passed is False)

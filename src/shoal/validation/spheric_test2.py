@@ -197,6 +197,8 @@ class SphericTest2(ValidationCase):
         res.particles = f"{case.n_particles:,} ({case.n_fluid:,} fluid)"
         res.data = dict(gauges=gauges, tp=tp, pressure=pressure, dp=self.dp, steps=run.steps, escaped=run.escaped,
                         end_time=self.end_time)
+        res.notes.append(f"{run.steps:,} steps" + (f", {run.escaped} particles left the domain" if run.escaped else "")
+                         + ".")
         self._save(res)
         return res
 
@@ -272,9 +274,6 @@ class SphericTest2(ValidationCase):
                 "one or two samples wide, the acoustic peak of a weakly compressible impact, which a 10 ms mean "
                 "of a 5 ms record barely smooths; its height depends on c0 and on the kernel average over "
                 "2h = 0.17 m, as tall as the box.")
-        if d.get("steps"):
-            result.notes.append(f"{d['steps']:,} steps" + (f", {d['escaped']} particles left the domain"
-                                                           if d.get("escaped") else "") + ".")
         fig = figure(8.0, 6.4)
         for k, x in enumerate(sorted(GAUGE_X.values())):
             ax = fig.add_subplot(3, 2, k + 1)
