@@ -131,6 +131,9 @@ def run_stats(run_dir):
     m = re.findall(r"particles (\d+) \(fluid (\d+)\)", log)
     if m:
         out["particles"], out["fluid_particles"] = int(m[-1][0]), int(m[-1][1])
+    m = re.findall(r"particles \d+ \(fluid \d+\), dp ([\d.eE+-]+) m", log)
+    if m:
+        out["dp"] = float(m[-1])
     done = re.findall(r"done: (\d+) steps to t = ([\d.eE+-]+) in ([\d.]+) s wall \(([\d.]+) s compile\), "
                       r"([\d.eE+-]+) particle-steps/s", log)
     if done:
