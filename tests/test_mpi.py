@@ -107,7 +107,11 @@ def test_pack_unpack_round_trip():
 def test_halo_migration_and_rates(mpiexec):
     """Rates near the slab cut equal the single-process rates to round-off (float32, after random
     displacements, velocities and densities; default scheme and SPS + XSPH + diffusion); the time step
-    is the same; particles pushed across the cut each way end up on exactly one rank."""
+    is the same; particles pushed across the cut each way end up on exactly one rank. The particle probes
+    (tracked positions, the nearest fluid particles to start points, max-z and run-up gauges with
+    regions across the cut) equal the single-process Model's on the same particles exactly (a max and a
+    selection have no round-off), on every rank, and ignore the ghosts (moved 1 m up: nothing changes;
+    with the ghosts counted the check fails)."""
     r = subprocess.run([*mpiexec, "-n", "2", sys.executable, str(HERE / "mpi" / "check_halo.py")],
                        capture_output=True, text=True, timeout=300, env=_env())
     line = [s for s in r.stdout.splitlines() if s.startswith("RESULTS ")]
@@ -118,6 +122,12 @@ def test_halo_migration_and_rates(mpiexec):
     assert res["sps_xsph_symplectic_rates_rel_err"] < 1e-5, res
     assert res["default_dt_rel_err"] < 1e-6 and res["sps_xsph_symplectic_dt_rel_err"] < 1e-6, res
     assert res["migration_unique"] and res["migration_moved_on_one_rank"] and res["migration_owned_inside_slab"], res
+    # trackers, max-z and run-up gauges over the cut: exactly the single-process values, on every rank, from
+    # the owned particles only (ghosts moved 1 m up change nothing); the tracked ids lie on both ranks, and
+    # a run-up's highest particle and its landward end lie on different sides of the cut
+    assert res["particle_probes_equal"] and res["particle_probes_same_on_every_rank"], res
+    assert res["particle_probes_ghosts_ignored"] and res["particle_probes_dry_is_nan"], res
+    assert min(res["particle_probes_ids_per_rank"]) > 0 and res["particle_probes_runup_split_across_cut"] > 0, res
     assert r.returncode == 0, r.stderr[-2000:]
 
 
@@ -129,10 +139,25 @@ def _front(vtu):
     return float(pts[fluid, 0].max()), np.asarray(data["id"]), pts
 
 
+def _particle_probes(interval):
+    """A tracker, a max-z and a run-up gauge for the small 3D dam break (dp = 0.02 m, water in
+    x < 0.146 m, 0.16 m wide; 2 ranks: the slab cut starts at x = 0.17 m): the tracker follows the
+    fluid particles nearest to the front's foot (it runs across the cut), to the back of the column
+    (stays on rank 0) and to the front's top corner, and id 100 (fluid, at the back); the max-z gauge sits
+    on the cut (dry at first: NaN), the run-up range spans it, its y band holds one column of particles."""
+    from shoal.probes import MaxZGauge, RunupGauge, Tracker
+
+    return [Tracker(name="t", start=[(0.128, 0.072, 0.012), (0.012, 0.07, 0.15), (0.13, 0.09, 0.288)], ids=[100],
+                    interval=interval),
+            MaxZGauge(name="cut", x=0.17, y=0.08, radius=0.03, interval=interval),
+            RunupGauge(name="r", x0=0.1, x1=0.5, y=0.07, band=0.02, interval=interval)]
+
+
 @pytest.fixture(scope="module")
 def dam_break_runs(mpiexec, tmp_path_factory):
-    """A small 3D dam break (9,204 particles, symplectic, float32, to t = 0.15 s, a gauge in the column)
-    run once on 1 process and once on 2 ranks (`shoal run`): (case, run dir of 1, run dir of 2, stdouts)."""
+    """A small 3D dam break (9,204 particles, symplectic, float32, to t = 0.15 s, a gauge in the column,
+    the particle probes of `PARTICLE_PROBES`) run once on 1 process and once on 2 ranks (`shoal run`):
+    (case, run dir of 1, run dir of 2, stdouts)."""
     import shoal
     from shoal.cases.dam_break import dam_break_3d
     from shoal.probes import WaveGauge
@@ -141,7 +166,7 @@ def dam_break_runs(mpiexec, tmp_path_factory):
     case = dam_break_3d(dp=0.02, end_time=0.15, output_interval=0.05,
                         options=shoal.SPHOptions(integrator="symplectic"))
     case = case.model_copy(update={"probes": [WaveGauge(name="column", x=0.07, y=0.08, z0=0.0, z1=0.35,
-                                                        interval=0.025)]})
+                                                        interval=0.025), *_particle_probes(0.025)]})
     toml = tmp_path / "db.toml"
     shoal.write_case(case, toml)
     base = [sys.executable, "-m", "shoal", "run", str(toml), "--no-plot", "--no-progress"]
@@ -179,6 +204,58 @@ def test_dam_break_two_ranks_matches_one(dam_break_runs):
     assert np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * dp, np.column_stack([g1, g2[:, 1]])
     log = (two / "run.log").read_text()
     assert "2 MPI ranks" in log and "communication" in log and "load balance at the end" in log
+
+
+def _csv_rows(path):
+    import csv
+
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], [r[0] for r in rows[1:]], np.array([[float(v) for v in r[1:]] for r in rows[1:]])
+
+
+def test_particle_probes_two_ranks_match_one(dam_break_runs):
+    """Trackers, max-z and run-up gauges under MPI (`_particle_probes` in the small 3D dam break, 7
+    samples to t = 0.15 s): the 2-rank run writes the files of the single-process run: the same header
+    (the same particles chosen from the start points), the same sample times (as text), NaN in the same
+    places (the max-z gauge on the cut is dry at first), and values within 1e-6 m (5e-5 dp). The tracked
+    particle at the front's foot runs across the slab cut (x = 0.17 m; no re-cut in this run) and is
+    owned by rank 0 at t = 0 and by rank 1 at the end (the snapshots' pieces), so its rows came from
+    both ranks; the max-z gauge's circle and the run-up's range span the cut. Not bitwise: the runs
+    differ by round-off (the order of the pair sums within a cell differs), measured at most 3.3e-8 m
+    here at t = 0.15 s (the other comparisons: 4e-8 m at the front at 0.2 s, 1.4e-7 m for every
+    particle at 0.08 s); 1e-6 m leaves room for that round-off to grow differently elsewhere while a
+    particle from the wrong rank or a wrong reduction gives differences of the order of dp (or NaNs
+    where the run has values). A ghost copy would differ from its owner by far less (a step's drift):
+    `test_halo_migration_and_rates` checks that the ghosts are never read."""
+    from shoal.output import read_vtu
+
+    case, one, two, _ = dam_break_runs
+    dp = case.dp
+    errs = {}
+    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv"):
+        h1, t1, v1 = _csv_rows(one / name)
+        h2, t2, v2 = _csv_rows(two / name)
+        assert h1 == h2 and t1 == t2 and len(t1) == 7, (name, h1, h2, t1, t2)
+        assert v1.shape == v2.shape and np.array_equal(np.isnan(v1), np.isnan(v2)), (name, v1, v2)
+        errs[name] = float(np.nanmax(np.abs(v1 - v2)))
+        assert errs[name] <= 1e-6, (name, errs)
+    # the max-z gauge on the cut: dry at t = 0, then the surge reaches it; the run-up always reads
+    _, _, mz = _csv_rows(two / "maxz_cut.csv")
+    assert np.isnan(mz[0, 0]) and np.all(np.isfinite(mz[-3:, 0])), mz
+    _, _, ru = _csv_rows(two / "runup_r.csv")
+    assert np.all(np.isfinite(ru)) and ru[0, 0] > ru[-1, 0] + 2 * dp, ru  # the column falls
+    # the tracker: id 100, then the fluid particles nearest to the start points (on the lattice at t = 0)
+    head, _, tr = _csv_rows(two / "track_t.csv")
+    ids = [int(c[2:]) for c in head[1::3]]
+    assert ids[0] == 100 and len(set(ids)) == 4
+    xyz = tr.reshape(len(tr), 4, 3)
+    assert np.allclose(xyz[0, 1:], [[0.13, 0.07, 0.01], [0.01, 0.07, 0.15], [0.13, 0.09, 0.29]], atol=1e-6)
+    assert xyz[0, 1, 0] < 0.17 < xyz[-1, 1, 0]  # the foot of the front ran across the cut (x = 0.17 m)
+    owners = []
+    for snap in ("dam-break-3d_0000", "dam-break-3d_0003"):
+        owners.append([r for r in range(2) if ids[1] in read_vtu(two / snap / f"{snap}_{r}.vtu")[1]["id"]])
+    assert owners == [[0], [1]], owners
 
 
 def test_pvtu_pieces_are_the_single_process_snapshots(dam_break_runs):
@@ -370,13 +447,14 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
     (its final checkpoint) then resumed with `shoal run --resume --end-time 0.11`: the final checkpoints
     hold bitwise the same owned particles (position, velocity, density, kind, id, the integrator's
     arrays) and cuts, re-cuts happened on both sides of the stop, the last snapshots are bitwise equal
-    piece by piece (the same rows on the same ranks in the same order), the gauge CSV and the .pvd are
-    byte for byte equal. Bitwise because every rank restores its rows (ghosts included) in their order,
-    the cuts, the halo's send lists and the load balancing's sort count, so each rank repeats the same
-    operations on the same data. Only the newest 2 checkpoints are kept. Resuming on 1 process is
+    piece by piece (the same rows on the same ranks in the same order), the gauge, tracker, max-z and
+    run-up CSVs and the .pvd are byte for byte equal. Bitwise because every rank restores its rows
+    (ghosts included) in their order, the cuts, the halo's send lists and the load balancing's sort
+    count, so each rank repeats the same operations on the same data. Only the newest 2 checkpoints are kept. Resuming on 1 process is
     refused with one line naming both counts (exit 2); on 3 ranks the particles are re-distributed
     (every rank reads both files, new cuts) and the result is within 0.01 dp of the uninterrupted run
-    (round-off: measured 5e-9 m, 3e-7 dp)."""
+    (round-off: measured 5e-9 m, 3e-7 dp), and so are its tracker, max-z and run-up records (the rows
+    written before the stop kept, the same times, values within 1e-6 m)."""
     import shoal
     from shoal.case import Checkpointing
     from shoal.cases.dam_break import dam_break_3d
@@ -387,7 +465,8 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
         case = dam_break_3d(dp=0.02, end_time=end, output_interval=0.025,
                             options=shoal.SPHOptions(integrator="symplectic"))
         case = case.model_copy(update={
-            "probes": [WaveGauge(name="column", x=0.07, y=0.08, z0=0.0, z1=0.35, interval=0.01)],
+            "probes": [WaveGauge(name="column", x=0.07, y=0.08, z0=0.0, z1=0.35, interval=0.01),
+                       *_particle_probes(0.01)],
             "checkpoint": Checkpointing(interval=0.04, wall_interval=0.0, keep=2)})
         path = tmp_path / name
         shoal.write_case(case, path)
@@ -435,7 +514,8 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
         pa, da = read_vtu(a / last / f"{last}_{piece}.vtu")
         pb, db = read_vtu(b / last / f"{last}_{piece}.vtu")
         assert np.array_equal(pa, pb) and all(np.array_equal(da[k], db[k]) for k in da)
-    assert (a / "gauge_column.csv").read_bytes() == (b / "gauge_column.csv").read_bytes()
+    for name in ("gauge_column.csv", "track_t.csv", "maxz_cut.csv", "runup_r.csv"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
     assert (a / "dam-break-3d.pvd").read_text() == (b / "dam-break-3d.pvd").read_text()
     assert len(list(b.glob("ckpt_*.mpi.json"))) == 2 and len(list(b.glob("ckpt_*.rank*.h5"))) == 4
     # the 3-rank continuation: every particle once, within 0.01 dp of the uninterrupted run (round-off)
@@ -444,6 +524,11 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
     assert np.array_equal(sc["idp"], np.arange(9204))
     assert np.max(np.abs(sc["pos"] - sa["pos"])) <= 0.01 * 0.02
     assert "written by 2 MPI ranks, re-distributed over 3 ranks" in (c / "run.log").read_text()
+    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv"):  # the rows before the stop kept, then continued
+        ha, ta, va = _csv_rows(a / name)
+        hc, tc, vc = _csv_rows(c / name)
+        assert ha == hc and ta == tc and len(ta) == 12 and np.array_equal(np.isnan(va), np.isnan(vc)), name
+        assert np.nanmax(np.abs(va - vc)) <= 1e-6, name
 
 
 def test_single_process_checkpoint_resumed_on_two_ranks(mpiexec, tmp_path):
@@ -451,17 +536,21 @@ def test_single_process_checkpoint_resumed_on_two_ranks(mpiexec, tmp_path):
     the ranks): a 2D dam break (dp = 0.01 m, symplectic) stopped at t = 0.05 s on one process and continued
     on 2 ranks to 0.07 s keeps every particle once and ends within 0.01 dp of the uninterrupted
     single-process run (measured 7e-9 m); the gauge's record continues with the same times and values
-    within 0.01 dp (measured 1e-9 m)."""
+    within 0.01 dp (measured 1e-9 m), and so do a tracker's (the ids it chose on one process), a max-z
+    and a run-up gauge's (values within 1e-6 m)."""
     import shoal
     from shoal.case import Checkpointing
     from shoal.output import read_vtu
-    from shoal.probes import WaveGauge
+    from shoal.probes import MaxZGauge, RunupGauge, Tracker, WaveGauge
 
     def case_file(name, end):
         case = shoal.cases.dam_break_2d(dp=0.01, end_time=end, output_interval=0.01,
                                         options=shoal.SPHOptions(integrator="symplectic"))
-        case = case.model_copy(update={"probes": [WaveGauge(name="g", x=0.07, z0=0.0, z1=0.3, interval=0.005)],
-                                       "checkpoint": Checkpointing(wall_interval=0.0)})
+        probes = [WaveGauge(name="g", x=0.07, z0=0.0, z1=0.3, interval=0.005),
+                  Tracker(name="t", start=[(0.1, 0.0, 0.01), (0.01, 0.0, 0.1)], interval=0.005),
+                  MaxZGauge(name="m", x=0.15, radius=0.02, interval=0.005),
+                  RunupGauge(name="r", x0=0.0, x1=0.5, interval=0.005)]
+        case = case.model_copy(update={"probes": probes, "checkpoint": Checkpointing(wall_interval=0.0)})
         shoal.write_case(case, tmp_path / name)
         return tmp_path / name
 
@@ -483,3 +572,8 @@ def test_single_process_checkpoint_resumed_on_two_ranks(mpiexec, tmp_path):
     g2 = np.loadtxt(tmp_path / "cut" / "gauge_g.csv", delimiter=",", skiprows=1)
     assert g1.shape == g2.shape and np.array_equal(g1[:, 0], g2[:, 0]) and np.all(np.isfinite(g2[:, 1]))
     assert np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * 0.01
+    for name in ("track_t.csv", "maxz_m.csv", "runup_r.csv"):  # continued on 2 ranks from the checkpoint's rows
+        h1, t1, v1 = _csv_rows(tmp_path / "ref" / name)
+        h2, t2, v2 = _csv_rows(tmp_path / "cut" / name)
+        assert h1 == h2 and t1 == t2 and len(t1) == 15 and np.array_equal(np.isnan(v1), np.isnan(v2)), name
+        assert np.nanmax(np.abs(v1 - v2)) <= 1e-6, name

@@ -130,8 +130,11 @@ def test_maxz_recorder_runs_offline(tmp_path):
 
 
 def test_make_recorder_dispatches_the_new_gauges(tmp_path):
-    model = SimpleNamespace(dim=2, kind="k", world_positions=lambda: np.array([[0.5, 0.0, 0.3]]),
-                            host=lambda a: np.array([0]))
+    from shoal.model import Model
+
+    # the recorder asks the model (Model.highest_fluid), which reads its particles' positions and kinds
+    model = SimpleNamespace(dim=2, owned_particles=lambda: (np.array([[0.5, 0.0, 0.3]]), np.array([0]), np.array([0])))
+    model.highest_fluid = lambda spec, tie: Model.highest_fluid(model, spec, tie)
     rec = make_recorder(RunupGauge(name="r", x0=0.0, x1=1.0, interval=0.1), tmp_path, 0.01, model)
     rec(SimpleNamespace(time=0.25, model=model))
     rec.close()

@@ -482,3 +482,54 @@ class Model:
             "kind": self.host(self.kind).astype(np.int32),
             "free_surface": self.free_surface().astype(np.int32),
         }
+
+    # ------------------------------------------------------ particle probes
+    def owned_particles(self):
+        """The particles this process measures: all the active ones (under MPI a
+        `DistributedModel` gives its owned particles, never its halo's ghosts).
+
+        Returns
+        -------
+        positions : ndarray, shape (N, 3)
+            World coordinates [m], float64.
+        kinds : ndarray, shape (N,)
+            Particle kinds.
+        ids : ndarray, shape (N,)
+            Particle ids.
+        """
+        return self.world_positions(), self.host(self.kind), self.host(self.idp)
+
+    def particle_positions(self, ids):
+        """World positions [m] of the particles with `ids` (a `Tracker`).
+
+        Parameters
+        ----------
+        ids : array_like of int, shape (K,)
+            Particle ids.
+
+        Returns
+        -------
+        ndarray, shape (K, 3)
+            float64; NaN rows for particles that have left the domain.
+        """
+        from .probes import positions_of
+
+        pos, _, idp = self.owned_particles()
+        return positions_of(idp, pos, ids)
+
+    def nearest_fluid(self, points):
+        """Ids of the fluid particles nearest to `points` [m] (shape (K, 3)); among
+        particles at exactly the same distance the smallest id (-1: no fluid)."""
+        from .probes import nearest_particles
+
+        pos, kinds, idp = self.owned_particles()
+        fluid = kinds == FLUID
+        return nearest_particles(pos[fluid], idp[fluid], points)[1]
+
+    def highest_fluid(self, spec, tie=0.0):
+        """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` `spec` over the fluid
+        particles (`shoal.probes.highest_fluid`; NaNs when its region holds none)."""
+        from .probes import highest_fluid
+
+        pos, kinds, _ = self.owned_particles()
+        return highest_fluid(pos, kinds, self.dim, spec, tie)

@@ -90,7 +90,65 @@ def compare(name, options):
         results[f"{name}_fluid_near_cut"] = int(near.sum())
         results[f"{name}_dt_rel_err"] = abs(dt - ref_dt) / ref_dt
         results[f"{name}_ghosts_rank0"] = int(dm.n_ghost)
-    return dm
+    return dm, ref
+
+
+def particle_probes(dm, ref):
+    """Trackers, max-z and run-up gauges over a region across the cut: the DistributedModel's
+    (each rank's owned particles, combined over the ranks) equal the single-process Model's on the
+    same particles exactly (the same float64 positions; max and selection are exact), on every rank;
+    then the ghosts are moved 1 m up and everything must be unchanged (owned particles only)."""
+    from shoal.probes import MaxZGauge, RunupGauge
+
+    cut, dp = float(dm.cuts[1]), dm.dp
+    W = float(ref.world_positions()[:, 1].max())
+    top = float(ref.world_positions()[ref.kind[: ref.n] == FLUID, 2].max())
+    gauges = [MaxZGauge(name="m", x=cut, y=0.5 * W, radius=2 * dp, interval=1.0),
+              MaxZGauge(name="m2", x=cut + 0.5 * dp, y=0.5 * W, radius=0.4 * dp, interval=1.0),
+              MaxZGauge(name="dry", x=9.0, y=0.5 * W, radius=0.3 * dp, interval=1.0),
+              RunupGauge(name="r", x0=cut - 4 * dp, x1=cut + 4 * dp, interval=1.0),
+              RunupGauge(name="rb", x0=cut - 4 * dp, x1=cut + 4 * dp, y=0.5 * W, band=2 * dp, interval=1.0),
+              RunupGauge(name="rw", x0=cut - 4 * dp, x1=cut + 4 * dp, landward="-x", interval=1.0)]
+    ties = [0.0, 0.0, 0.0, 0.25 * dp, 0.5 * dp, 0.5 * dp]
+    # ids on both sides of the cut (and near it), the nearest to points around the cut and above the water
+    x_ref = ref.world_positions()[:, 0]
+    ids_ref = ref.idp[: ref.n]
+    fluid = ref.kind[: ref.n] == FLUID
+    near = ids_ref[fluid][np.argsort(np.abs(x_ref[fluid] - cut))[:20]]
+    ids = np.concatenate([near, ids_ref[fluid][:3], ids_ref[fluid][-3:]])
+    points = [(cut, 0.5 * W, 0.5 * top), (cut - dp, 0.3 * W, top), (cut + 0.3 * dp, 0.7 * W, top + 1.0),
+              (cut - 0.5 * dp, 0.5 * W, top + 0.9)]
+
+    def measure(m):
+        return (m.particle_positions(ids), m.nearest_fluid(points),
+                np.array([m.highest_fluid(g, t) for g, t in zip(gauges, ties)]))
+
+    want = measure(ref)
+    got = measure(dm)
+    dm.pos[dm._ghost_rows, dm.dim - 1] += 1.0  # ghosts 1 m up: an owned-only measurement is unchanged
+    moved = measure(dm)
+    dm.pos[dm._ghost_rows, dm.dim - 1] -= 1.0
+    same = all(np.array_equal(a, b, equal_nan=True) for a, b in zip(want, got))
+    same_moved = all(np.array_equal(a, b, equal_nan=True) for a, b in zip(want, moved))
+    everywhere = comm.allgather(tuple(np.concatenate([np.ravel(a) for a in got])))
+    ids_per_rank = comm.allgather(int(np.isin(ids, dm.idp[: dm.n][dm.owned]).sum()))
+    # the run-up's highest particle and its landward end on different sides of the cut (the two-phase reduction)
+    hf = want[2]
+    split = 0
+    for k, (g, t) in enumerate(zip(gauges, ties)):
+        if isinstance(g, RunupGauge):
+            sel = fluid & (x_ref >= g.x0) & (x_ref <= g.x1)
+            zx = ref.world_positions()[sel]
+            highest_x = zx[np.argmax(zx[:, 2]), 0]
+            split += int((highest_x < cut) != (hf[k, 1] < cut))
+    if rank == 0:
+        results["particle_probes_equal"] = bool(same)
+        results["particle_probes_ghosts_ignored"] = bool(same_moved)
+        results["particle_probes_same_on_every_rank"] = bool(all(
+            np.array_equal(np.array(e), np.array(everywhere[0]), equal_nan=True) for e in everywhere))
+        results["particle_probes_ids_per_rank"] = ids_per_rank
+        results["particle_probes_runup_split_across_cut"] = split
+        results["particle_probes_dry_is_nan"] = bool(np.all(np.isnan(hf[2])))
 
 
 def migration(dm):
@@ -126,7 +184,8 @@ def migration(dm):
         results["migration_owned_inside_slab"] = bool(all(e[2] for e in every))
 
 
-dm = compare("default", shoal.SPHOptions())
+dm, ref = compare("default", shoal.SPHOptions())
+particle_probes(dm, ref)
 migration(dm)
 compare("sps_xsph_symplectic", shoal.SPHOptions(turbulence="sps", xsph=0.5, integrator="symplectic",
                                                  density_diffusion="fourtakas", delta=0.1))
@@ -135,5 +194,6 @@ if rank == 0:
     ok = (results["default_rates_rel_err"] < 1e-5 and results["sps_xsph_symplectic_rates_rel_err"] < 1e-5
           and results["migration_unique"] and results["migration_moved_on_one_rank"]
           and results["migration_owned_inside_slab"] and results["default_fluid_near_cut"] > 0
-          and results["default_dt_rel_err"] < 1e-6)
+          and results["default_dt_rel_err"] < 1e-6 and results["particle_probes_equal"]
+          and results["particle_probes_ghosts_ignored"] and results["particle_probes_same_on_every_rank"])
     sys.exit(0 if ok else 1)

@@ -45,8 +45,12 @@ arguments for the Python API. Each re-cut is recorded in ``rebalances``.
 Outputs: ``world_positions``, ``fields`` etc. give the owned particles;
 ``sample`` (probes, gauges) gives every rank the same values: each point is
 evaluated by the rank whose slab holds it (whose halo covers its support),
-with a fresh halo. ``check`` is collective: every rank raises the same
-`InstabilityError` when any rank finds a bad particle.
+with a fresh halo. The particle probes (trackers, max-z and run-up gauges)
+run the single-process code (`Model.particle_positions`, ``nearest_fluid``,
+``highest_fluid``) on the owned particles (``owned_particles``: never the
+ghosts) and combine the ranks' results, the same on every rank. ``check``
+is collective: every rank raises the same `InstabilityError` when any rank
+finds a bad particle.
 """
 
 from __future__ import annotations
@@ -563,6 +567,62 @@ class DistributedModel(Model):
             "kind": self.host(self.kind)[own].astype(np.int32),
             "free_surface": fs.astype(np.int32),
         }
+
+    def owned_particles(self):
+        """(positions, kinds, ids) of this rank's owned particles, never the ghosts
+        (the particle probes measure these, then reduce over the ranks)."""
+        own = self.owned
+        return self.world_positions(), self.host(self.kind)[own], self.host(self.idp)[own]
+
+    def _allgather(self, value):
+        t0 = _time.perf_counter()
+        out = self.comm.allgather(value)
+        self.comm_seconds += _time.perf_counter() - t0
+        return out
+
+    def particle_positions(self, ids):
+        """World positions [m] of the particles with `ids`, the same on every rank
+        (collective): each is read on the rank that owns it (`Model.particle_positions`
+        over the owned particles) and the ranks' rows are gathered; NaN rows for
+        particles no rank owns (escaped)."""
+        parts = np.stack(self._allgather(super().particle_positions(ids)))  # (ranks, K, 3)
+        found = ~np.isnan(parts[:, :, 0])
+        return parts[np.argmax(found, axis=0), np.arange(parts.shape[1])]
+
+    def nearest_fluid(self, points):
+        """Ids of the fluid particles nearest to `points` over every rank, the same on
+        every rank (collective); ties as in `shoal.probes.nearest_particles` (the
+        smallest id), so the choice equals the single-process one."""
+        from ..probes import nearest_particles
+
+        pos, kinds, idp = self.owned_particles()
+        fluid = kinds == FLUID
+        d2, ids = (np.stack(a) for a in zip(*self._allgather(nearest_particles(pos[fluid], idp[fluid], points))))
+        best = d2.min(axis=0)
+        out = np.where(d2 == best, ids, np.iinfo(np.int64).max).min(axis=0)
+        return np.where(np.isfinite(best), out, -1)
+
+    def highest_fluid(self, spec, tie=0.0):
+        """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` over every rank's fluid,
+        the same on every rank (collective): zmax is the MPI max of the ranks' highest
+        owned particles (NaN when no rank's owned fluid is in the region); (x, y) is
+        that of the run-up's most landward owned particle within `tie` below it over
+        the ranks (the max-z gauge: the rank holding the highest particle's)."""
+        from ..probes import RunupGauge, highest_fluid
+
+        pos, kinds, _ = self.owned_particles()
+        z = highest_fluid(pos, kinds, self.dim, spec, tie)[0]
+        zmax = self.allreduce(-np.inf if np.isnan(z) else z, "max")
+        if zmax == -np.inf:
+            return (float("nan"),) * 3
+        xy = np.array(self._allgather(highest_fluid(pos, kinds, self.dim, spec, tie, zmax=zmax)[1:]), float)
+        here = np.flatnonzero(~np.isnan(xy[:, 0]))  # ranks with a particle at (within tie of) zmax
+        if isinstance(spec, RunupGauge):
+            sign = 1.0 if spec.landward == "+x" else -1.0
+            k = here[np.argmax(sign * xy[here, 0])]
+        else:
+            k = here[0]
+        return zmax, float(xy[k, 0]), float(xy[k, 1])
 
     def gather_particles(self, root=0):
         """(positions, fields) of every rank's particles on `root` (None elsewhere), in id order."""

@@ -10,8 +10,11 @@ balancing and the communication share of the wall time), snapshots as
 ``SHOAL_MPI_SNAPSHOTS=gather`` gathered to rank 0 into the ``<name>_NNNN.vtu``
 files of a single-process run; point probes, wave gauges and test-point
 grids (each point sampled by the rank whose slab holds it, the values on
-every rank, rank 0 writes), ``escaped.csv`` (rank 0's escapes; rank r's in
-``escaped.rank<r>.csv``) and the final PNG (gathered).
+every rank, rank 0 writes), trackers (each tracked particle read on the rank
+that owns it, gathered by id), max-z and run-up gauges (each rank's owned
+particles, reduced over the ranks; rank 0 writes), ``escaped.csv`` (rank
+0's escapes; rank r's in ``escaped.rank<r>.csv``) and the final PNG
+(gathered).
 
 Checkpoints (`shoal.parallel.checkpoint`): every rank writes its own
 ``ckpt_NNNNNN.rank<RRRR>.h5`` and rank 0 the ``ckpt_NNNNNN.mpi.json``
@@ -21,9 +24,9 @@ same number of ranks, bitwise; on another number of ranks, or from a
 single-process run's checkpoint, the particles are re-distributed (equal to
 round-off).
 
-Not yet under MPI (refused with one line): trackers, max-z and run-up
-gauges, the CUDA backend, periodic x. Stop signals are not caught
-(mpiexec's own handling ends every rank, without a checkpoint).
+Not yet under MPI (refused with one line): the CUDA backend, periodic x.
+Stop signals are not caught (mpiexec's own handling ends every rank,
+without a checkpoint).
 
 Errors: bad input is found on every rank alike (or decided on rank 0 and
 broadcast) and raised everywhere; a collective check (instability, escaped
@@ -267,10 +270,6 @@ def unsupported(case, backend):
     """One line naming what this slice cannot run under MPI, or None."""
     if backend != "cpu":
         return f"the {backend} backend is not supported under MPI yet (one GPU per rank is a later slice); use --backend cpu"
-    bad = [p for p in case.probes if p.type in ("tracker", "maxz", "runup")]
-    if bad:
-        return (f"probe {bad[0].name!r} of type {bad[0].type!r} is not supported under MPI yet (points, gauge and "
-                "grid probes are); run it on one process or remove the probe")
     if case.domain is not None and "x" in case.domain.periodic:
         return "a periodic x axis is not supported under MPI yet (the slabs are cut along x); run it on one process"
     return None

@@ -230,32 +230,28 @@ class GridRecorder:
 
 
 class TrackRecorder:
-    """Appends the positions of tracked particles to a CSV."""
+    """Appends the positions of tracked particles to a CSV.
+
+    The particles are looked up by id in the model (`Model.particle_positions`;
+    under MPI on the rank that owns each one now, see
+    `shoal.parallel.model.DistributedModel`); the ones given by `start` are the
+    fluid particles nearest to those points when the recorder is made
+    (`Model.nearest_fluid`). A particle that has left the domain gives NaNs.
+    """
 
     def __init__(self, spec, out_dir, model):
         self.spec = spec
         self.path = Path(out_dir) / f"track_{spec.name}.csv"
         ids = list(spec.ids)
         if spec.start:
-            pos = model.world_positions()
-            idp = model.host(model.idp)
-            fluid = model.host(model.kind) == 0
-            for p in spec.start:
-                d = np.linalg.norm(pos[fluid] - np.asarray(p), axis=1)
-                ids.append(int(idp[fluid][int(np.argmin(d))]))
+            ids += [int(i) for i in model.nearest_fluid(spec.start)]
         self.ids = np.asarray(ids, dtype=np.int64)
         self.file = open(self.path, "w", newline="")
         self.writer = csv.writer(self.file)
         self.writer.writerow(["time"] + [f"{c}_{i}" for i in self.ids for c in ("x", "y", "z")])
 
     def __call__(self, sim):
-        m = sim.model
-        idp = m.host(m.idp)
-        slot = np.full(m.n_total, -1, np.int64)
-        slot[idp] = np.arange(len(idp))
-        pos = m.world_positions()
-        rows = slot[self.ids]
-        xyz = np.where(rows[:, None] >= 0, pos[np.maximum(rows, 0)], np.nan)  # NaN once a particle escaped
+        xyz = sim.model.particle_positions(self.ids)  # NaN once a particle escaped
         self.writer.writerow([f"{sim.time:.9g}"] + [f"{v:.9g}" for v in xyz.ravel()])
         self.file.flush()
 
@@ -302,7 +298,73 @@ class ProbeRecorder:
         self.file.close()
 
 
-def highest_fluid(positions, kinds, dim, spec, tie=0.0):
+def positions_of(ids, positions, wanted):
+    """Positions of the particles with ids `wanted` among (`ids`, `positions`).
+
+    Parameters
+    ----------
+    ids : ndarray, shape (N,)
+        Particle ids (unique, >= 0) of the rows of `positions`.
+    positions : ndarray, shape (N, 3)
+        Their positions [m].
+    wanted : array_like of int, shape (K,)
+        The ids to look up.
+
+    Returns
+    -------
+    ndarray, shape (K, 3)
+        float64 positions [m]; NaN rows for the ids not among `ids` (a
+        particle that escaped, or, under MPI, one another rank owns).
+    """
+    ids = np.asarray(ids, np.int64)
+    wanted = np.asarray(wanted, np.int64).reshape(-1)
+    pos = np.asarray(positions, np.float64).reshape(-1, 3)
+    size = int(max(ids.max(initial=-1), wanted.max(initial=-1))) + 1
+    slot = np.full(size, -1, np.int64)
+    slot[ids] = np.arange(len(ids))
+    rows = np.where(wanted >= 0, slot[np.maximum(wanted, 0)], -1)
+    if len(pos) == 0:
+        return np.full((len(wanted), 3), np.nan)
+    return np.where(rows[:, None] >= 0, pos[np.maximum(rows, 0)], np.nan)
+
+
+def nearest_particles(positions, ids, points):
+    """For each of `points`, the nearest of the particles (`positions`, `ids`).
+
+    Parameters
+    ----------
+    positions : ndarray, shape (N, 3)
+        Particle positions [m] (y = 0 in 2D).
+    ids : ndarray, shape (N,)
+        Their ids.
+    points : array_like, shape (K, 3)
+        The points [m].
+
+    Returns
+    -------
+    d2 : ndarray, shape (K,)
+        Squared distance [m^2] to the nearest particle (inf when N = 0).
+    nearest : ndarray, shape (K,)
+        Its id (-1 when N = 0); among particles at exactly the same distance,
+        the smallest id, so that the choice does not depend on the order of
+        the rows (nor, under MPI, on which rank holds them).
+    """
+    pos = np.asarray(positions, np.float64).reshape(-1, 3)
+    ids = np.asarray(ids, np.int64)
+    pts = np.asarray(points, np.float64).reshape(-1, 3)
+    d2 = np.full(len(pts), np.inf)
+    nearest = np.full(len(pts), -1, np.int64)
+    if len(pos) == 0:
+        return d2, nearest
+    for k, p in enumerate(pts):  # a few points; vectorised over the particles
+        d = pos - p
+        dk = d[:, 0] ** 2 + d[:, 1] ** 2 + d[:, 2] ** 2
+        d2[k] = dk.min()
+        nearest[k] = ids[dk == d2[k]].min()
+    return d2, nearest
+
+
+def highest_fluid(positions, kinds, dim, spec, tie=0.0, zmax=None):
     """The highest fluid particle a `MaxZGauge` or `RunupGauge` sees.
 
     Parameters
@@ -318,6 +380,12 @@ def highest_fluid(positions, kinds, dim, spec, tie=0.0):
     tie : float
         [m]: for a `RunupGauge`, (x, y) are those of the most landward
         particle within `tie` below the highest one.
+    zmax : float, optional
+        [m]: the elevation of the highest particle, when it was found among
+        more particles than these (under MPI: the maximum over the ranks,
+        see `shoal.parallel.model.DistributedModel.highest_fluid`); (x, y)
+        are then those of a particle here at `zmax` (max-z) or within `tie`
+        below it (run-up), NaN when none is. Default: the highest here.
 
     Returns
     -------
@@ -325,7 +393,7 @@ def highest_fluid(positions, kinds, dim, spec, tie=0.0):
         (zmax, x, y): the highest fluid particle centre in the gauge's
         region and where it is [m]; NaNs when the region holds no fluid.
     """
-    pos = np.asarray(positions, float)
+    pos = np.asarray(positions, float).reshape(-1, 3)
     sel = np.asarray(kinds) == 0
     if isinstance(spec, MaxZGauge):
         if dim == 3:
@@ -337,21 +405,31 @@ def highest_fluid(positions, kinds, dim, spec, tie=0.0):
         sel &= (pos[:, 0] >= spec.x0) & (pos[:, 0] <= spec.x1)
         if dim == 3 and spec.band is not None:
             sel &= np.abs(pos[:, 1] - spec.y) <= 0.5 * spec.band
-    if not sel.any():
-        return (float("nan"),) * 3
     cand = pos[sel]
-    k = int(np.argmax(cand[:, 2]))
-    zmax = float(cand[k, 2])
+    nan = float("nan")
+    if zmax is None:
+        if not len(cand):
+            return (nan,) * 3
+        zmax = float(cand[:, 2].max())
+    zmax = float(zmax)
     if isinstance(spec, RunupGauge):
         top = np.flatnonzero(cand[:, 2] >= zmax - tie)
+        if not len(top):
+            return zmax, nan, nan
         sign = 1.0 if spec.landward == "+x" else -1.0
         k = int(top[np.argmax(sign * cand[top, 0])])
+    else:
+        top = np.flatnonzero(cand[:, 2] >= zmax)
+        if not len(top):
+            return zmax, nan, nan
+        k = int(top[0])
     return zmax, float(cand[k, 0]), float(cand[k, 1])
 
 
 class MaxZRecorder:
-    """Samples a `MaxZGauge` or a `RunupGauge` (NumPy over the host copies of
-    the particle positions) and appends to its CSV."""
+    """Samples a `MaxZGauge` or a `RunupGauge` (`Model.highest_fluid`: NumPy
+    over the host copies of the particle positions; under MPI each rank's
+    owned particles, reduced over the ranks) and appends to its CSV."""
 
     def __init__(self, spec, out_dir, dp):
         self.spec = spec
@@ -368,8 +446,7 @@ class MaxZRecorder:
         self.rows = []
 
     def __call__(self, sim):
-        m = sim.model
-        z, x, y = highest_fluid(m.world_positions(), m.host(m.kind), m.dim, self.spec, self.tie)
+        z, x, y = sim.model.highest_fluid(self.spec, self.tie)
         row = [sim.time, z] if isinstance(self.spec, MaxZGauge) else [sim.time, z, x, y]
         self.rows.append(row)
         self.writer.writerow([f"{v:.9g}" for v in row])
