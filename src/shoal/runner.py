@@ -174,7 +174,11 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         the checkpoint and appended to, the snapshot series and ``run.log``
         continue. `case` must be that run's case; only ``end_time``,
         ``[checkpoint]`` and ``max_escaped_fraction`` may differ. On the CPU
-        the result is bitwise that of an uninterrupted run.
+        the result is bitwise that of an uninterrupted run. A run on several
+        MPI ranks continues on this process from the union of its ranks'
+        particles (`shoal.parallel.checkpoint.for_one_process`; equal to the
+        uninterrupted run to round-off), the ``.pvd`` listing its ``.pvtu``
+        snapshots and then this process's ``.vtu`` ones.
     handle_signals : bool
         On the main thread, the first SIGINT/SIGTERM ends the run after the
         current step with a final checkpoint (`RunInterrupted`); a second
@@ -290,8 +294,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
     from .casefile import dumps_case, write_case
     from .probes import make_recorder
     from .simulation import IterationInterval
-    from .simulation.checkpoint import (CheckpointWriter, callback_saved_state, restore, restore_recorder,
-                                        set_aside)
+    from .simulation.checkpoint import CheckpointWriter, restore, restore_recorders, set_aside_csvs
     from .simulation.escaped import EscapedRecorder
     from .simulation.signals import StopOnSignals
 
@@ -315,14 +318,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
              case.options.precision)
     # on a restart, the CSVs are renamed aside before the recorders re-create them, then get back exactly
     # the bytes they held at the checkpoint (a crash in between leaves the data in *.csv.resume)
-    backups = {}
-    if ck is not None:
-        for p in sorted(out_dir.glob("*.csv")) + sorted(out_dir.glob("*.csv.resume")):
-            name = p.name[: -len(".resume")] if p.name.endswith(".resume") else p.name
-            if name not in backups:
-                bak = set_aside(out_dir / name)
-                if bak is not None:
-                    backups[name] = bak
+    backups = set_aside_csvs(out_dir) if ck is not None else {}
     escaped = EscapedRecorder(out_dir, model, case.max_escaped_fraction)
     model.sort()  # particles in cell order for the first samples
     recorders = [make_recorder(p, out_dir, case.dp, model) for p in case.probes]
@@ -346,35 +342,29 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
     state["writer"] = ckw
     closers = [escaped, *recorders]
     if ck is not None:
+        mpi = ck.meta.get("mpi", {})
+        if mpi.get("redistribute"):  # a run on several MPI ranks (the union of its ranks), continued here
+            from .parallel.checkpoint import for_one_process
+
+            ck = for_one_process(ck, sim)
         restore(sim, ck)
-        restored = set()
-        for k, cb in enumerate(sim.callbacks):
-            if getattr(cb, "fresh_on_resume", False):
-                continue
-            scalars, arrays = callback_saved_state(ck, k, cb.name)
-            if scalars or arrays:
-                bak = backups.get(scalars.get("file_name"))
-                w = restore_recorder(cb.func, scalars, arrays, bak)
-                if bak is not None:
-                    restored.add(scalars.get("file_name"))
-                if w:
-                    _warn(w)
-                    log.warning("%s", w)
+
+        def warn(w):
+            _warn(w)
+            log.warning("%s", w)
+
+        restore_recorders(sim, ck, out_dir, backups, warn)
+        if mpi.get("redistribute"):
+            from .parallel.checkpoint import cut_escaped_files
+
+            cut_escaped_files(out_dir, mpi["escaped_bytes_ranks"], 1)  # escapes go to escaped.csv from now on
         for s in ck_cb.schedule.schedules:
             if isinstance(s, TimeInterval):
                 s.skip_to(sim.time)
-        for name, bak in backups.items():
-            if name in restored:
-                bak.unlink()  # its data is back in the re-created file
-            elif not (out_dir / name).exists():
-                bak.replace(out_dir / name)  # not a recorder's file: put it back as it was
-            else:
-                w = f"{name} was re-created but the checkpoint has no state for it; its old data is in {bak.name}"
-                _warn(w)
-                log.warning("%s", w)
         ckw.last_step, ckw.last_path = ck.step, ck.path
-        log.info("resumed from %s: step %d, t = %.9g s, dt %.6g s; run to t = %g s", ck.path.name, ck.step,
-                 ck.time, sim.dt or 0.0, case.end_time)
+        log.info("resumed from %s%s: step %d, t = %.9g s, dt %.6g s; run to t = %g s", ck.path.name,
+                 f" (written by {mpi['source']}, continued on 1 process)" if mpi.get("redistribute") else "",
+                 ck.step, ck.time, sim.dt or 0.0, case.end_time)
     stopper = StopOnSignals(sim) if handle_signals else nullcontext()
     try:
         with stopper:
@@ -456,7 +446,7 @@ def _resume_point(case, out_dir, collect):
     from .casefile import load_case
     from .simulation.checkpoint import latest_checkpoint
 
-    if not (out_dir / "resolved.json").exists() and not any(out_dir.glob("ckpt_*.h5")):
+    if not (out_dir / "resolved.json").exists() and not any(out_dir.glob("ckpt_*")):
         raise InputError(f"{out_dir} holds no run to resume (no resolved.json or checkpoint)")
 
     def warn(msg):
@@ -483,7 +473,9 @@ def resume_run(out_dir, end_time=None, checkpoint_interval=None, backend="cpu", 
     Parameters
     ----------
     out_dir : path
-        A run directory (its ``case.toml`` and ``ckpt_NNNNNN.h5`` files).
+        A run directory (its ``case.toml`` and ``ckpt_NNNNNN.h5`` files, or
+        the ``ckpt_NNNNNN.mpi.json`` manifests and rank files of a run on
+        several MPI ranks).
     end_time : float, optional
         A new end time [s] (to extend a finished run); default: the case's.
     checkpoint_interval : float, optional

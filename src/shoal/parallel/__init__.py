@@ -16,7 +16,8 @@ the environment: the single-process path is unchanged.
   ``compute_rates`` refreshes the halo values first (every stage of every
   integrator); the time step is an MPI min.
 - `checkpoint`: per-rank checkpoint files and their manifest; ``--resume`` on
-  the same number of ranks (bitwise) or another (re-distributed).
+  the same number of ranks (bitwise), another (re-distributed) or one process
+  (the union of the ranks' particles in a single-process Model).
 - `run`: `run_case_mpi`, the run: per-rank VTU pieces and a ``.pvtu`` per
   snapshot, gauges and probes written by rank 0, checkpoints.
 """

@@ -32,13 +32,20 @@ from rank 0's file (the same on every rank). The run then continues as a
 run on the new rank count would, equal to the uninterrupted run to
 round-off (not bitwise: the pair sums are summed in another order).
 Whichever of the two kinds of checkpoint is newest is resumed.
+
+On one process (``shoal run --resume`` without mpiexec),
+`shoal.simulation.checkpoint.latest_checkpoint` reads the newest complete
+checkpoint of either kind: an MPI one as the same union (`read_union`,
+every rank file verified against the manifest's SHA-256; a damaged or
+missing one: the previous checkpoint, with a warning), which
+`for_one_process` lays out as a single-process Model's arrays; the
+run continues there, equal to the uninterrupted runs to round-off.
 """
 
 from __future__ import annotations
 
 import json
 import os
-import re
 import time as _time
 from pathlib import Path
 
@@ -205,6 +212,76 @@ class MPICheckpointWriter:
                         pass
 
 
+def read_manifests(out_dir, warn=None):
+    """The checkpoint manifests in `out_dir` that read back, newest first.
+
+    Parameters
+    ----------
+    out_dir : path
+        The run directory.
+    warn : callable, optional
+        ``warn(message)`` for each manifest skipped (unreadable, not JSON,
+        another format or version, fields missing).
+
+    Returns
+    -------
+    list of (Path, dict)
+        Each manifest and its contents.
+    """
+    found = []
+    for p in list_manifests(out_dir):
+        try:
+            obj = json.loads(p.read_text())
+            if obj.get("format") != FORMAT or obj.get("version") != VERSION:
+                raise ValueError(f"not a {FORMAT} version {VERSION} manifest")
+            int(obj["ranks"]), list(obj["files"]), list(obj["sha256"])
+        except (OSError, ValueError, KeyError, TypeError) as err:
+            if warn is not None:
+                warn(f"checkpoint {p} skipped: its manifest cannot be read ({err}); falling back to the "
+                     "previous one")
+            continue
+        found.append((p, obj))
+    return found
+
+
+def read_union(out_dir, manifest, obj, rank=0):
+    """The union of the owned particles of every rank file a manifest names.
+
+    Parameters
+    ----------
+    out_dir : path
+        The run directory.
+    manifest : Path
+        The manifest (``ckpt_NNNNNN.mpi.json``).
+    obj : dict
+        Its contents (`read_manifests`).
+    rank : int, default 0
+        The reading rank: the length of its ``escaped*.csv`` at the
+        checkpoint is kept as ``meta["mpi"]["escaped_bytes"]``.
+
+    Returns
+    -------
+    Checkpoint
+        The owned particles of every rank (never the ghosts) with their
+        integrator state, rank by rank in each rank's order; the probes' and
+        snapshots' state of rank 0's file; ``meta["mpi"]`` marks it for
+        re-distribution (`restore_rank`) or for a single process
+        (`for_one_process`).
+
+    Raises
+    ------
+    CheckpointError
+        A rank file is missing, unreadable, damaged or not the file the
+        manifest names (another SHA-256).
+    """
+    out_dir = Path(out_dir)
+    try:
+        cks = [_read_rank_file(out_dir / f, d, manifest) for f, d in zip(obj["files"], obj["sha256"])]
+    except OSError as err:
+        raise CheckpointError(f"{manifest.name}: a rank file cannot be read ({err.strerror or err})") from None
+    return _from_ranks(cks, manifest, rank)
+
+
 def find_resume(out_dir, comm, warn=None):
     """The newest checkpoint every rank can read (collective).
 
@@ -237,18 +314,7 @@ def find_resume(out_dir, comm, warn=None):
     rank, size = comm.Get_rank(), comm.Get_size()
     found, message = [], None
     if rank == 0:
-        for p in list_manifests(out_dir):
-            try:
-                obj = json.loads(p.read_text())
-                if obj.get("format") != FORMAT or obj.get("version") != VERSION:
-                    raise ValueError(f"not a {FORMAT} version {VERSION} manifest")
-                int(obj["ranks"]), list(obj["files"]), list(obj["sha256"])
-            except (OSError, ValueError, KeyError, TypeError) as err:
-                if warn is not None:
-                    warn(f"checkpoint {p} skipped: its manifest cannot be read ({err}); falling back to the "
-                         "previous one")
-                continue
-            found.append((str(p), obj))
+        found = [(str(p), obj) for p, obj in read_manifests(out_dir, warn)]
         single = list_checkpoints(out_dir)
         if not found and not single:
             message = f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from"
@@ -260,7 +326,7 @@ def find_resume(out_dir, comm, warn=None):
     if not found:  # a single-process run's checkpoint: re-distributed over the ranks
         from ..simulation.checkpoint import latest_checkpoint
 
-        single = latest_checkpoint(out_dir, warn=warn if rank == 0 else None)  # the same on every rank
+        single = latest_checkpoint(out_dir, warn=warn if rank == 0 else None, mpi=False)  # the same on every rank
         return single.path, None, _from_single(single, rank)
     for p, obj in found:
         p = Path(p)
@@ -274,8 +340,7 @@ def find_resume(out_dir, comm, warn=None):
                     raise CheckpointError(f"{f.name} is rank {mpi.get('rank')} of {mpi.get('size')}, not {rank} "
                                           f"of {size}")
             else:  # written by another number of ranks: every rank reads every file, then keeps its new slab
-                ck = _from_ranks([_read_rank_file(out_dir / f, d, p) for f, d in zip(obj["files"], obj["sha256"])],
-                                 p, rank)
+                ck = read_union(out_dir, p, obj, rank)
         except CheckpointError as err:
             msg = str(err)
         except OSError as err:
@@ -308,7 +373,10 @@ _PARTICLE_NAMES = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax", "p
 
 def _union(path, first, parts, rank, escaped_bytes, n_escaped, sort_count, rebalances, source):
     """A Checkpoint holding the active particles of every part (``(ck, rows, n_integrator)``),
-    marked for re-distribution over the ranks (`restore_rank` keeps this rank's slab)."""
+    marked for re-distribution over the ranks (`restore_rank` keeps this rank's slab).
+    `escaped_bytes`: the length at the checkpoint of each writer's ``escaped*.csv``
+    (one per rank of the run written, in rank order); this rank's is kept as
+    ``escaped_bytes``."""
     from ..simulation.checkpoint import Checkpoint
 
     names = [k for k in _PARTICLE_NAMES if k in first.particles]
@@ -317,8 +385,10 @@ def _union(path, first, parts, rank, escaped_bytes, n_escaped, sort_count, rebal
     extra = [np.concatenate([c.extra[i][rows] for c, rows, _ in parts]) for i in range(n_int)]
     meta = json.loads(json.dumps(first.meta))
     meta["model"]["n"] = int(len(particles["pos"]))
+    mine = int(escaped_bytes[rank]) if rank < len(escaped_bytes) else 0
     meta["mpi"] = {"redistribute": True, "source": source, "n_escaped": int(n_escaped), "sort_count": int(sort_count),
-                   "rebalances": rebalances, "escaped_bytes": int(escaped_bytes)}
+                   "rebalances": rebalances, "escaped_bytes": mine,
+                   "escaped_bytes_ranks": [int(b) for b in escaped_bytes]}
     return Checkpoint(Path(path), meta, first.case_toml, particles, extra, first.callbacks, {})
 
 
@@ -326,7 +396,7 @@ def _from_ranks(cks, path, rank):
     """The union of the owned particles of the rank files `cks` (another rank count)."""
     parts = [(c, np.flatnonzero(c.extra[-1] == 0), len(c.extra) - 1) for c in cks]  # ghost flags: the last array
     mpis = [c.meta["mpi"] for c in cks]
-    escaped = mpis[rank]["escaped_bytes"] if rank < len(cks) else 0
+    escaped = [m["escaped_bytes"] for m in mpis]
     return _union(path, cks[0], parts, rank, escaped, sum(c.meta["model"]["n_escaped"] for c in cks),
                   mpis[0]["sort_count"], mpis[0].get("rebalances", []), f"{len(cks)} MPI ranks")
 
@@ -335,11 +405,10 @@ def _from_single(ck, rank):
     """The active particles of a single-process checkpoint `ck`, to re-distribute."""
     n = int(ck.meta["model"]["n"])
     escaped = 0
-    if rank == 0:
-        for cb in ck.meta["callbacks"]:
-            if cb["name"] == "escaped":
-                escaped = int(cb.get("state", {}).get("file_bytes", 0))
-    return _union(ck.path, ck, [(ck, np.arange(n), len(ck.extra))], rank, escaped, ck.meta["model"]["n_escaped"],
+    for cb in ck.meta["callbacks"]:
+        if cb["name"] == "escaped":
+            escaped = int(cb.get("state", {}).get("file_bytes", 0))
+    return _union(ck.path, ck, [(ck, np.arange(n), len(ck.extra))], rank, [escaped], ck.meta["model"]["n_escaped"],
                   int(ck.meta["step_count"]) + 1, [], "1 process")
 
 
@@ -410,15 +479,127 @@ def restore_rank(sim, ck):
     restore_scalars(sim, ck)
 
 
-def set_aside_newer(out_dir, step):
-    """Rename manifests and rank files newer than `step` (skipped as damaged) to ``*.bad``
-    and remove temporary files, so the resumed run never mistakes them for its own (rank 0)."""
-    for p in Path(out_dir).iterdir():
-        m = MPI_MANIFEST.match(p.name) or MPI_RANK_FILE.match(p.name)
-        if m and int(m.group(1)) > step:
-            os.replace(p, p.with_name(p.name + ".bad"))
-        elif re.match(r"^ckpt_\d+\.(mpi\.json|rank\d+\.h5)\.tmp$", p.name):
-            p.unlink()
+# the Model arrays indexed by particle id, not by row (they do not follow the sort; a DistributedModel
+# keeps them whole, so its checkpoints do not hold them): the single-process Model's own are kept
+_BY_ID = ("pos_init", "motion_of")
+
+
+def for_one_process(ck, sim):
+    """The union `ck` of a run on several MPI ranks (`read_union`) as a checkpoint of the
+    single-process Simulation `sim` (built from the same case), which
+    `shoal.simulation.checkpoint.restore` then puts back.
+
+    Parameters
+    ----------
+    ck : Checkpoint
+        The union of the ranks' owned particles (``meta["mpi"]["redistribute"]``).
+    sim : Simulation
+        A Simulation of a single-process `Model`, with its callbacks.
+
+    Returns
+    -------
+    Checkpoint
+        In the single-process layout: every per-particle array with the
+        model's ``n_total`` rows, the active particles first (the union, in
+        the ranks' order; the next sort puts them in cell order), then the
+        particles that left the domain during the run (in id order, with the
+        state they had in `sim`'s model: their last one is in the
+        ``escaped*.csv`` files), the integrator's arrays in the same rows;
+        the arrays indexed by id (moving bodies' initial positions and
+        motions) are the model's; the escaped count summed over the ranks; the
+        callbacks' state matched to `sim`'s callbacks by name (the
+        single-process ``escaped`` recorder gets rank 0's ``escaped.csv``
+        length). ``meta["mpi"]`` keeps ``source`` and ``escaped_bytes_ranks``
+        (`cut_escaped_files`).
+
+    Raises
+    ------
+    CheckpointError
+        The checkpoint does not match the model or the Simulation, or its
+        ranks do not hold every active particle exactly once.
+    """
+    from ..simulation.checkpoint import Checkpoint, particle_arrays
+
+    m = sim.model
+    mm, mpi = ck.meta["model"], ck.meta["mpi"]
+    if mm["n_total"] != m.n_total or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
+        raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
+                              f"this case has {m.n_total} ({m.dim}D, {np.dtype(m.dtype).str})")
+    ids = np.asarray(ck.particles["idp"], np.int64)
+    n_escaped = int(mpi["n_escaped"])
+    if len(ids) and (ids.min() < 0 or ids.max() >= m.n_total):
+        raise CheckpointError(f"{ck.path.name}: particle ids outside 0..{m.n_total - 1}")
+    held = np.bincount(ids, minlength=m.n_total)
+    if held.max(initial=0) > 1 or len(ids) + n_escaped != m.n_total:
+        raise CheckpointError(f"{ck.path.name}: the ranks hold {len(ids)} particles ({int(np.sum(held > 1))} ids "
+                              f"more than once) and {n_escaped} have left the domain, of {m.n_total}")
+    row = np.empty(m.n_total, np.int64)
+    row[m.host(m.idp, 0, m.n_total)] = np.arange(m.n_total)
+    gone = row[np.flatnonzero(held == 0)]  # this model's rows of the particles that left the domain
+
+    def whole(name, src, dst):
+        if src.dtype != dst.dtype or src.shape[1:] != dst.shape[1:]:
+            raise CheckpointError(f"{ck.path.name}: array {name} is {src.dtype}{tuple(src.shape)}, the model's "
+                                  f"{dst.dtype}{tuple(dst.shape)}")
+        return np.concatenate([src, m.backend.to_host(dst, 0, m.n_total)[gone]])
+
+    particles = {}
+    for name, dst in particle_arrays(m).items():
+        if name in ck.particles:
+            particles[name] = whole(name, ck.particles[name], dst)
+        elif name in _BY_ID:
+            particles[name] = np.array(m.backend.to_host(dst, 0, m.n_total))
+        else:
+            raise CheckpointError(f"{ck.path.name} lacks the particle array {name}")
+    if len(ck.extra) != len(m.extra_arrays):
+        raise CheckpointError(f"{ck.path.name} was written with the {ck.meta['integrator']['type']} integrator; this "
+                              f"run uses {type(sim.integrator).__name__}")
+    extra = [whole(f"integrator {k}", e, dst) for k, (e, dst) in enumerate(zip(ck.extra, m.extra_arrays))]
+    saved = {c["name"]: k for k, c in enumerate(ck.meta["callbacks"])}
+    callbacks, states = [], {}
+    for k, cb in enumerate(sim.callbacks):
+        j = saved.get(cb.name)
+        if cb.name == "escaped":  # rank 0's escaped.csv (a run on several ranks has no such recorder)
+            entry = {"name": cb.name, "schedule": {} if j is None else ck.meta["callbacks"][j]["schedule"],
+                     "state": {"file_bytes": int(mpi["escaped_bytes_ranks"][0]), "file_name": "escaped.csv"}}
+        elif j is not None:
+            entry = ck.meta["callbacks"][j]
+            if j in ck.callbacks:
+                states[k] = ck.callbacks[j]
+        elif getattr(cb, "fresh_on_resume", False):
+            entry = {"name": cb.name, "schedule": {}}
+        else:
+            raise CheckpointError(f"{ck.path.name} has no state for the callback {cb.name!r} (its callbacks are: "
+                                  f"{', '.join(saved)})")
+        callbacks.append(entry)
+    meta = json.loads(json.dumps(ck.meta))
+    meta["model"].update(n=len(ids), n_escaped=n_escaped)
+    meta["integrator"]["n_extra"] = len(extra)
+    meta["callbacks"] = callbacks
+    meta["mpi"] = {"source": mpi["source"], "escaped_bytes_ranks": mpi["escaped_bytes_ranks"]}
+    return Checkpoint(ck.path, meta, ck.case_toml, particles, extra, states, {})
+
+
+def cut_escaped_files(out_dir, lengths, first):
+    """Cut the files ``escaped.rank<R>.csv`` of the ranks R >= `first` back to their
+    lengths at a checkpoint (`lengths`: bytes per rank of the run that wrote it):
+    on a resume with fewer ranks nobody writes them any more, and the particles
+    they list after the checkpoint escape again in the resumed run (into another
+    rank's file).
+
+    Parameters
+    ----------
+    out_dir : path
+        The run directory.
+    lengths : sequence of int
+        ``meta["mpi"]["escaped_bytes_ranks"]`` of the checkpoint resumed from.
+    first : int
+        The first rank that is not in the resumed run.
+    """
+    for r in range(max(int(first), 1), len(lengths)):
+        path = Path(out_dir) / f"escaped.rank{r}.csv"
+        if path.exists() and path.stat().st_size > int(lengths[r]):
+            os.truncate(path, int(lengths[r]))
 
 
 class CollectiveSchedule:

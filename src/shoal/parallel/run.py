@@ -165,21 +165,15 @@ class _Snapshots:
         snapshots numbered from ``count`` on (``.pvtu`` and piece folders, or ``.vtu``), written
         by the interrupted run after the checkpoint."""
         import math
-        import shutil
+
+        from ..simulation.writers import remove_snapshots
 
         self.count = int(scalars["count"])
         self.last_time = None if scalars.get("last_time") is None else float(scalars["last_time"])
         if self.rank != 0:
             return
         self.pvd.truncate(-math.inf if self.last_time is None else self.last_time)
-        for p in self.directory.glob(f"{self.name}_[0-9][0-9][0-9][0-9]*"):
-            stem = p.name[len(self.name) + 1:].split(".")[0]
-            if not (stem.isdigit() and int(stem) >= self.count):
-                continue
-            if p.is_dir():
-                shutil.rmtree(p, ignore_errors=True)
-            elif p.suffix in (".pvtu", ".vtu"):
-                p.unlink()
+        remove_snapshots(self.directory, self.name, self.count)
 
     def __call__(self, sim):
         self.write(sim.model, sim.time)
@@ -364,8 +358,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
     from ..probes import make_recorder
     from ..runner import RunResult, _close_log, _logger, _Progress, run_summary
     from ..simulation import IterationInterval, Simulation, TimeInterval
-    from ..simulation.checkpoint import callback_saved_state, clear_checkpoints, restore_recorder, set_aside
-    from .checkpoint import MPICheckpointWriter, restore_rank, set_aside_newer
+    from ..simulation.checkpoint import clear_checkpoints, restore_recorders, set_aside_csvs, set_aside_newer
+    from .checkpoint import MPICheckpointWriter, cut_escaped_files, restore_rank
 
     rank, size = comm.Get_rank(), comm.Get_size()
     sim = Simulation(model, case.end_time)
@@ -401,14 +395,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                  f"count exceeds {model.rebalance_threshold:g}" if model.rebalance_interval else "off")
     # on a resume, rank 0's probe CSVs are set aside before the recorders re-create them, then get back
     # exactly the bytes they held at the checkpoint (as a single-process resume does)
-    backups = {}
-    if rank == 0 and ck is not None:
-        for p in sorted(out_dir.glob("*.csv")) + sorted(out_dir.glob("*.csv.resume")):
-            name = p.name[: -len(".resume")] if p.name.endswith(".resume") else p.name
-            if name not in backups and not name.startswith("escaped"):
-                bak = set_aside(out_dir / name)
-                if bak is not None:
-                    backups[name] = bak
+    backups = set_aside_csvs(out_dir, skip=("escaped",)) if rank == 0 and ck is not None else {}
     escaped = _escaped_recorder(out_dir, model, rank,
                                 resume_bytes=ck.meta["mpi"].get("escaped_bytes") if ck is not None else None)
     model.sort()
@@ -458,26 +445,12 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
     closers = [escaped, *recorders]
     if ck is not None:
         restore_rank(sim, ck)
-        restored = set()
-        for k, cb in enumerate(sim.callbacks):
-            if getattr(cb, "fresh_on_resume", False):
-                continue
-            scalars, arrays = callback_saved_state(ck, k, cb.name)
-            if scalars or arrays:
-                bak = backups.get(scalars.get("file_name"))
-                w = restore_recorder(cb.func, scalars, arrays, bak)
-                if bak is not None:
-                    restored.add(scalars.get("file_name"))
-                if w and log is not None:
-                    log.warning("%s", w)
+        restore_recorders(sim, ck, out_dir, backups, None if log is None else lambda w: log.warning("%s", w))
+        if rank == 0 and ck.meta["mpi"].get("redistribute"):  # a run on more ranks: the others' escapes
+            cut_escaped_files(out_dir, ck.meta["mpi"]["escaped_bytes_ranks"], size)
         for sch in ck_cb.schedule.schedules:
             if isinstance(sch, TimeInterval):
                 sch.skip_to(sim.time)
-        for name, bak in backups.items():
-            if name in restored:
-                bak.unlink()  # its data is back in the re-created file
-            elif not (out_dir / name).exists():
-                bak.replace(out_dir / name)  # not a recorder's file: put it back as it was
         ckw.last_step, ckw.last_path = ck.step, man
         logged[0] = len(model.rebalances)
         if log is not None:

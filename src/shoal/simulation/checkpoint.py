@@ -34,8 +34,11 @@ so they carry no state of their own.
 
 A run on several MPI ranks writes one such file per rank,
 ``ckpt_NNNNNN.rank<RRRR>.h5``, and a manifest ``ckpt_NNNNNN.mpi.json``
-(`shoal.parallel.checkpoint`); `capture` saves a rank's active rows, and a
-single-process resume of such a run is refused naming the rank count.
+(`shoal.parallel.checkpoint`); `capture` saves a rank's active rows.
+`latest_checkpoint` picks the newest checkpoint of either kind; a run on
+several ranks comes back as the union of the ranks' owned particles, which
+a single-process run continues from
+(`shoal.parallel.checkpoint.for_one_process`).
 """
 
 from __future__ import annotations
@@ -414,48 +417,57 @@ MPI_MANIFEST = re.compile(r"^ckpt_(\d+)\.mpi\.json$")
 MPI_RANK_FILE = re.compile(r"^ckpt_(\d+)\.rank(\d+)\.h5$")
 
 
-def mpi_checkpoint_ranks(out_dir):
-    """The rank count of the newest checkpoint manifest (``ckpt_NNNNNN.mpi.json``)
-    a run on several MPI ranks left in `out_dir`, or None (see
-    `shoal.parallel.checkpoint`)."""
-    out_dir = Path(out_dir)
-    if not out_dir.is_dir():
-        return None
-    found = sorted(((int(m.group(1)), p) for p in out_dir.iterdir() if (m := MPI_MANIFEST.match(p.name))),
-                   reverse=True)
-    for _, p in found:
-        try:
-            return int(json.loads(p.read_text())["ranks"])
-        except (OSError, ValueError, KeyError, TypeError):
-            continue
-    return None
+def latest_checkpoint(out_dir, warn=None, mpi=True):
+    """The newest usable checkpoint in `out_dir`.
 
+    Parameters
+    ----------
+    out_dir : path
+        The run directory.
+    warn : callable, optional
+        ``warn(message)``: one line for each checkpoint skipped (it does not
+        read back or verify) before the previous one is tried.
+    mpi : bool, default True
+        Also consider the checkpoints of a run on several MPI ranks (the
+        manifests ``ckpt_NNNNNN.mpi.json``, `shoal.parallel.checkpoint`);
+        whichever kind is newest (the highest step; a single-process one on
+        a tie) is read.
 
-def latest_checkpoint(out_dir, warn=None):
-    """The newest valid checkpoint in `out_dir`.
+    Returns
+    -------
+    Checkpoint
+        A single-process checkpoint, or the union of the owned particles of
+        a run on several ranks (every rank file verified against the
+        manifest's SHA-256; ``meta["mpi"]["redistribute"]`` is true, see
+        `shoal.parallel.checkpoint.read_union`).
 
-    A file that fails to read or verify is skipped with a one-line warning
-    (``warn(message)``) and the previous one is tried. Raises `InputError`
-    if none is usable.
+    Raises
+    ------
+    InputError
+        No checkpoint, or none that reads back and verifies.
     """
-    files = list_checkpoints(out_dir)
-    mpi_newest = max((int(m.group(1)) for p in Path(out_dir).iterdir() if (m := MPI_MANIFEST.match(p.name))),
-                     default=-1) if Path(out_dir).is_dir() else -1
-    if not files or mpi_newest > int(_NAME.match(files[0].name).group(1)):
-        ranks = mpi_checkpoint_ranks(out_dir)
-        if ranks:
-            raise InputError(f"the checkpoints in {out_dir} were written by {ranks} MPI ranks and this run has 1 "
-                             f"process: resume it with mpiexec -n {ranks} shoal run --resume {out_dir}")
-        if not files:
-            raise InputError(f"{out_dir} holds no checkpoint (ckpt_NNNNNN.h5) to resume from")
-    for p in files:
+    candidates = [(int(_NAME.match(p.name).group(1)), 1, p, None) for p in list_checkpoints(out_dir)]
+    if mpi:
+        from ..parallel.checkpoint import read_manifests
+
+        candidates += [(int(MPI_MANIFEST.match(p.name).group(1)), 0, p, obj)
+                       for p, obj in read_manifests(out_dir, warn)]
+    if not candidates:
+        kinds = "ckpt_NNNNNN.h5 or ckpt_NNNNNN.mpi.json" if mpi else "ckpt_NNNNNN.h5"
+        raise InputError(f"{out_dir} holds no checkpoint ({kinds}) to resume from")
+    candidates.sort(key=lambda c: c[:2], reverse=True)
+    for _, _, p, obj in candidates:
         try:
-            return read_checkpoint(p)
+            if obj is None:
+                return read_checkpoint(p)
+            from ..parallel.checkpoint import read_union
+
+            return read_union(out_dir, p, obj)
         except CheckpointError as err:
             if warn is not None:
                 warn(f"checkpoint {p} skipped: {err}; falling back to the previous one")
-    raise InputError(f"none of the {len(files)} checkpoints in {out_dir} is readable "
-                     f"({', '.join(p.name for p in files)}); the run cannot be resumed")
+    raise InputError(f"none of the {len(candidates)} checkpoints in {out_dir} is readable "
+                     f"({', '.join(c[2].name for c in candidates)}); the run cannot be resumed")
 
 
 # ------------------------------------------------------------------ restore
@@ -598,6 +610,80 @@ def restore_recorder(rec, scalars, arrays, backup=None):
     return warning
 
 
+def set_aside_csvs(out_dir, skip=()):
+    """Rename the CSV files of a run being resumed aside (`set_aside`), before
+    its recorders re-create them; `restore_recorders` puts their data back.
+
+    Parameters
+    ----------
+    out_dir : Path
+        The run directory.
+    skip : tuple of str, optional
+        Leave the files whose names start with one of these where they are.
+
+    Returns
+    -------
+    dict of str -> Path
+        The backup (``*.csv.resume``) of each file, by the file's name; one
+        left by an interrupted resume holds the data and is kept as it is.
+    """
+    backups = {}
+    for p in sorted(out_dir.glob("*.csv")) + sorted(out_dir.glob("*.csv.resume")):
+        name = p.name[: -len(".resume")] if p.name.endswith(".resume") else p.name
+        if name not in backups and not name.startswith(tuple(skip)):
+            bak = set_aside(out_dir / name)
+            if bak is not None:
+                backups[name] = bak
+    return backups
+
+
+def restore_recorders(sim, ck, out_dir, backups, warn=None):
+    """Restore every callback of a resumed Simulation that has state in its
+    checkpoint: each probe CSV gets back exactly the bytes it held at the
+    checkpoint (rows the interrupted run wrote after it are dropped, so no
+    time is recorded twice or missing), in-memory rows, samples and ids, the
+    snapshot numbering.
+
+    Parameters
+    ----------
+    sim : Simulation
+        The resumed Simulation (its state already put back, `restore`); its
+        callbacks flagged ``fresh_on_resume`` are left as they are.
+    ck : Checkpoint
+        The checkpoint, in the layout of `sim`'s callbacks.
+    out_dir : Path
+        The run directory.
+    backups : dict of str -> Path
+        The CSV files set aside before the recorders re-created them
+        (`set_aside_csvs`). A backup whose data is back in its recorder's
+        file is removed; one of a file no recorder re-created is put back
+        as it was; one of a file re-created without state in the checkpoint
+        is kept, with a warning.
+    warn : callable, optional
+        ``warn(message)``: one line for each problem (a file shorter than at
+        the checkpoint, a file re-created without state).
+    """
+    restored = set()
+    for k, cb in enumerate(sim.callbacks):
+        if getattr(cb, "fresh_on_resume", False):
+            continue
+        scalars, arrays = callback_saved_state(ck, k, cb.name)
+        if scalars or arrays:
+            bak = backups.get(scalars.get("file_name"))
+            w = restore_recorder(cb.func, scalars, arrays, bak)
+            if bak is not None:
+                restored.add(scalars.get("file_name"))
+            if w and warn is not None:
+                warn(w)
+    for name, bak in backups.items():
+        if name in restored:
+            bak.unlink()  # its data is back in the re-created file
+        elif not (out_dir / name).exists():
+            bak.replace(out_dir / name)  # not a recorder's file: put it back as it was
+        elif warn is not None:
+            warn(f"{name} was re-created but the checkpoint has no state for it; its old data is in {bak.name}")
+
+
 # ------------------------------------------------------------------ callback
 class CheckpointWriter:
     """A Simulation callback writing ``ckpt_NNNNNN.h5`` and keeping the newest `keep`.
@@ -661,13 +747,24 @@ def clear_checkpoints(out_dir):
             p.unlink()  # a run on several MPI ranks (shoal.parallel.checkpoint)
 
 
-def set_aside_newer(out_dir, ck):
-    """Rename checkpoints newer than `ck` (damaged ones, skipped on resume)
-    to ``*.h5.bad`` and remove stale ``*.h5.tmp`` files, so the resumed run
-    never mistakes them for its own."""
+def set_aside_newer(out_dir, step):
+    """Rename the checkpoints newer than the one resumed from (damaged ones,
+    skipped on resume), of either kind (``ckpt_NNNNNN.h5``, and a run on
+    several MPI ranks' manifests and rank files), to ``*.bad`` and remove
+    stale ``*.tmp`` files, so the resumed run never mistakes them for its
+    own.
+
+    Parameters
+    ----------
+    out_dir : path
+        The run directory.
+    step : int or Checkpoint
+        The step of the checkpoint resumed from (or that checkpoint).
+    """
+    step = step.step if isinstance(step, Checkpoint) else int(step)
     for p in Path(out_dir).iterdir():
-        m = _NAME.match(p.name)
-        if m and int(m.group(1)) > ck.step:
+        m = _NAME.match(p.name) or MPI_MANIFEST.match(p.name) or MPI_RANK_FILE.match(p.name)
+        if m and int(m.group(1)) > step:
             os.replace(p, p.with_name(p.name + ".bad"))
-        elif re.match(r"^ckpt_\d+\.h5\.tmp$", p.name):
+        elif re.match(r"^ckpt_\d+\.(h5|mpi\.json|rank\d+\.h5)\.tmp$", p.name):
             p.unlink()

@@ -8,6 +8,32 @@ from pathlib import Path
 from ..output import PVDWriter, write_vtu
 
 
+def remove_snapshots(directory, name, first):
+    """Remove the snapshots numbered `first` and later (written after the
+    checkpoint a run resumes from): ``<name>_NNNN.vtu``, and a run on
+    several MPI ranks' ``<name>_NNNN.pvtu`` and piece folders ``<name>_NNNN/``.
+
+    Parameters
+    ----------
+    directory : Path
+        The run directory.
+    name : str
+        The case name (the snapshots' prefix).
+    first : int
+        The first snapshot number removed.
+    """
+    import shutil
+
+    for p in Path(directory).glob(f"{name}_[0-9][0-9][0-9][0-9]*"):
+        stem = p.name[len(name) + 1:].split(".")[0]
+        if not (stem.isdigit() and int(stem) >= first):
+            continue
+        if p.is_dir():
+            shutil.rmtree(p, ignore_errors=True)
+        elif p.suffix in (".pvtu", ".vtu"):
+            p.unlink()
+
+
 class SnapshotWriter:
     """Write the active particles as ``<dir>/<name>_NNNN.vtu`` plus ``<name>.pvd``.
 
@@ -31,14 +57,14 @@ class SnapshotWriter:
         """Continue the series after a checkpoint: the next snapshot is number
         ``count``; the collection drops entries after the checkpoint's last
         snapshot, and snapshot files numbered from ``count`` on (written by the
-        interrupted run after the checkpoint) are removed."""
+        interrupted run after the checkpoint, `remove_snapshots`) are removed.
+        The collection may list a run on several MPI ranks' ``.pvtu`` files
+        (a single-process resume of such a run): it goes on with ``.vtu``
+        files, one time series still."""
         self.count = int(scalars["count"])
         self.last_time = None if scalars.get("last_time") is None else float(scalars["last_time"])
         self.pvd.truncate(-math.inf if self.last_time is None else self.last_time)
-        for p in self.directory.glob(f"{self.name}_[0-9][0-9][0-9][0-9]*.vtu"):
-            stem = p.stem[len(self.name) + 1:]
-            if stem.isdigit() and int(stem) >= self.count:
-                p.unlink()
+        remove_snapshots(self.directory, self.name, self.count)
 
     def __call__(self, sim):
         self.write(sim.model, sim.time)
