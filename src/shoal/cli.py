@@ -374,9 +374,28 @@ def cmd_info(args):
                 print(f"  device {d.id}: {d.name}, {total / 2**30:.1f} GiB ({free / 2**30:.1f} GiB free)")
         except Exception:  # the simulator has no memory figures
             pass
+        _info_mpi_gpus()
     else:
         print(f"cuda: not available: {why}")
     return 0
+
+
+def _info_mpi_gpus():
+    """`shoal info` under mpiexec with the CUDA backend available: the device each rank would use
+    (`shoal.parallel.gpu`); outside MPI, the rule."""
+    from .parallel import world
+
+    comm = world()
+    if comm is None:
+        print("  under mpiexec (--backend cuda) each rank uses the device (its rank on the node) mod (the devices "
+              "it sees)")
+        return
+    from .parallel.gpu import describe, select_device
+
+    assignment = select_device(comm, activate=False)
+    print(f"  under mpiexec with {comm.Get_size()} ranks, --backend cuda would use:")
+    for line in describe(assignment):
+        print(f"    {line}")
 
 
 def main(argv=None):

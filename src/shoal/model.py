@@ -425,7 +425,7 @@ class Model:
         i, code = self.backend.find_bad(self.n, self.pos, self.vel, self.rho, self.kind, *self.rho_range)
         if i < 0:
             return
-        where = self.world_positions()[i]
+        where = Model.world_positions(self)[i]  # row i of all the rows scanned (under MPI: ghosts included)
         what = "non-finite position, velocity or density" if code == 1 else (
             f"density {float(self.host(self.rho, i, i + 1)[0]):.6g} kg/m^3 outside the sane band "
             f"[{self.rho_range[0]:.4g}, {self.rho_range[1]:.4g}]")

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..neighbours.grid import CellGrid
 from ..physics.spec import FLUID
-from .loops import attach_loops
+from .loops import attach_loops, row_columns
 
 # Fast-math flags that keep NaN/inf semantics (NaN checks must still work).
 # No "reassoc": with it, a kernel compiled in this process and the same kernel
@@ -83,6 +83,8 @@ class CPUBackend:
     """
 
     name = "cpu"
+    #: the particle arrays are NumPy arrays in host memory (code may edit them with NumPy)
+    host_memory = True
 
     def __init__(self, spec):
         self.spec = spec
@@ -126,7 +128,56 @@ class CPUBackend:
 
     @staticmethod
     def copy_into(dst, src, n):
+        """Rows 0..n of `dst` (a backend array) from `src` (a host or backend array)."""
         dst[:n] = src[:n]
+
+    @staticmethod
+    def copy_to_host(dst, src, n):
+        """Rows 0..n of the host array `dst` from the backend array `src` (nothing when they are one array)."""
+        if dst is not src and n > 0:
+            dst[:n] = src[:n]
+
+    # -- rows of particle arrays in a float64 buffer (the MPI halo, `shoal.parallel`)
+    @staticmethod
+    def pack_rows(arrays, rows, k, out):
+        """Write rows ``rows[:k]`` of each of `arrays` side by side into ``out[:k]``.
+
+        Parameters
+        ----------
+        arrays : sequence of backend arrays, (N,) or (N, w)
+            Their columns follow each other in `out` (one column per 1D array).
+        rows : backend int64 array, (>= k,)
+            The rows to read.
+        k : int
+            Number of rows.
+        out : backend float64 array, (>= k, columns)
+            Receives the values (float32 and integer values are exact in float64).
+        """
+        if k == 0:
+            return
+        r = rows[:k]
+        for a, c, w in row_columns(arrays):
+            out[:k, c:c + w] = a[r].reshape(k, w)
+
+    @staticmethod
+    def unpack_rows(arrays, buf, rows, k):
+        """The inverse of `pack_rows`: write ``buf[:k]`` into rows ``rows[:k]`` of each of `arrays`
+        (converted to each array's dtype)."""
+        if k == 0:
+            return
+        r = rows[:k]
+        for a, c, w in row_columns(arrays):
+            vals = buf[:k, c:c + w]
+            a[r] = (vals[:, 0] if a.ndim == 1 else vals).astype(a.dtype)
+
+    @staticmethod
+    def zero_rows(arrays, rows, k):
+        """Set rows ``rows[:k]`` of each of `arrays` to zero."""
+        if k == 0:
+            return
+        r = rows[:k]
+        for a in arrays:
+            a[r] = 0
 
     @staticmethod
     def make_grid(lo, hi, support, cells_per_support, capacity, periodic=None):

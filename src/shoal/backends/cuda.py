@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..physics.spec import FLUID
-from .loops import attach_loops
+from .loops import attach_loops, row_columns
 
 try:  # a module-level name: the CUDA simulator swaps the global `cuda` inside kernels
     from numba import cuda
@@ -105,10 +105,67 @@ def _reductions():
     return accel2, first_bad, max_reduce
 
 
+def _row_kernels():
+    """Kernels that move rows of particle arrays to and from a float64 buffer (`pack_rows`): one
+    thread per row (halos are small; the CUDA simulator runs a Python thread per GPU thread)."""
+    @cuda.jit
+    def pack_1d(a, rows, k, out, col):
+        i = cuda.grid(1)
+        if i < k:
+            out[i, col] = a[rows[i]]
+
+    @cuda.jit
+    def pack_2d(a, rows, k, out, col):
+        i = cuda.grid(1)
+        if i < k:
+            r = rows[i]
+            for d in range(a.shape[1]):
+                out[i, col + d] = a[r, d]
+
+    @cuda.jit
+    def unpack_1d(a, buf, rows, k, col):
+        i = cuda.grid(1)
+        if i < k:
+            a[rows[i]] = buf[i, col]
+
+    @cuda.jit
+    def unpack_2d(a, buf, rows, k, col):
+        i = cuda.grid(1)
+        if i < k:
+            r = rows[i]
+            for d in range(a.shape[1]):
+                a[r, d] = buf[i, col + d]
+
+    @cuda.jit
+    def zero_1d(a, rows, k):
+        i = cuda.grid(1)
+        if i < k:
+            a[rows[i]] = 0
+
+    @cuda.jit
+    def zero_2d(a, rows, k):
+        i = cuda.grid(1)
+        if i < k:
+            r = rows[i]
+            for d in range(a.shape[1]):
+                a[r, d] = 0
+
+    return {"pack": (pack_1d, pack_2d), "unpack": (unpack_1d, unpack_2d), "zero": (zero_1d, zero_2d)}
+
+
+def _launch(count):
+    """(blocks, threads) of a row kernel over `count` rows: blocks of 32 under the simulator (it
+    starts a Python thread per GPU thread, idle ones included; same results), THREADS on a GPU."""
+    t = 32 if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1" else THREADS
+    return (count + t - 1) // t, t
+
+
 class CUDABackend:
     """Compiled CUDA kernels for one scheme specialisation, on device arrays."""
 
     name = "cuda"
+    #: the particle arrays live on the device (copy them with `to_host` / `copy_into`)
+    host_memory = False
 
     def __init__(self, spec):
         ok, why = cuda_status()
@@ -118,6 +175,7 @@ class CUDABackend:
         self.spec = spec
         attach_loops(self, cuda_device_jit, make_for_each, spec, "cuda")
         self._accel2, self._first_bad, self._max = _reductions()
+        self._rows = None  # the row kernels, built on first use (MPI runs only)
         self._a2 = None
         self._bad = cuda.device_array(1, dtype=np.int64)
         self.compile_seconds = 0.0
@@ -183,8 +241,44 @@ class CUDABackend:
 
     @staticmethod
     def copy_into(dst, src, n):
+        """Rows 0..n of the device array `dst` from `src` (a host or device array)."""
         if n > 0:
             dst[:n].copy_to_device(src[:n])
+
+    @staticmethod
+    def copy_to_host(dst, src, n):
+        """Rows 0..n of the host array `dst` (C-contiguous) from the device array `src`."""
+        if n > 0:
+            src[:n].copy_to_host(dst[:n])
+
+    # -- rows of particle arrays in a float64 buffer (the MPI halo, `shoal.parallel`)
+    def _row_kernel(self, kind, a):
+        if self._rows is None:
+            self._rows = _row_kernels()
+        return self._rows[kind][0 if a.ndim == 1 else 1]
+
+    def pack_rows(self, arrays, rows, k, out):
+        """Write rows ``rows[:k]`` of each of `arrays` side by side into ``out[:k]``, on the device
+        (see `shoal.backends.cpu.CPUBackend.pack_rows`; `rows` and `out` are device arrays)."""
+        if k == 0:
+            return
+        for a, c, _ in row_columns(arrays):
+            self._row_kernel("pack", a)[_launch(k)](a, rows, k, out, c)
+
+    def unpack_rows(self, arrays, buf, rows, k):
+        """Write ``buf[:k]`` into rows ``rows[:k]`` of each of `arrays`, on the device (the inverse
+        of `pack_rows`; each value converted to its array's dtype)."""
+        if k == 0:
+            return
+        for a, c, _ in row_columns(arrays):
+            self._row_kernel("unpack", a)[_launch(k)](a, buf, rows, k, c)
+
+    def zero_rows(self, arrays, rows, k):
+        """Set rows ``rows[:k]`` of each of `arrays` to zero, on the device."""
+        if k == 0:
+            return
+        for a in arrays:
+            self._row_kernel("zero", a)[_launch(k)](a, rows, k)
 
     @staticmethod
     def make_grid(lo, hi, support, cells_per_support, capacity, periodic=None):

@@ -32,3 +32,13 @@ def attach_loops(backend, jit, for_each, spec, target):
         setattr(backend, name, for_each(getattr(phys, fn)))
     for name, fn in make_updates(phys.named_jit, spec, phys.unpack).items():
         setattr(backend, name, for_each(fn))
+
+
+def row_columns(arrays):
+    """(array, first column, width) of each of `arrays` laid side by side in a row buffer (the MPI
+    halo's `pack_rows` / `unpack_rows` of both backends): one column per 1D array, w per (N, w) one."""
+    c = 0
+    for a in arrays:
+        w = 1 if a.ndim == 1 else a.shape[1]
+        yield a, c, w
+        c += w

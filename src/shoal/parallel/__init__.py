@@ -15,6 +15,8 @@ the environment: the single-process path is unchanged.
   unbalanced (on a schedule), receives a fresh halo and re-sorts;
   ``compute_rates`` refreshes the halo values first (every stage of every
   integrator); the time step is an MPI min.
+- `gpu`: with the CUDA backend, each rank's GPU (its rank on the node
+  modulo the node's devices), chosen before any CUDA context exists.
 - `checkpoint`: per-rank checkpoint files and their manifest; ``--resume`` on
   the same number of ranks (bitwise), another (re-distributed) or one process
   (the union of the ranks' particles in a single-process Model).

@@ -47,16 +47,20 @@ def neighbours(comm):
     return (r - 1 if r > 0 else MPI.PROC_NULL), (r + 1 if r < s - 1 else MPI.PROC_NULL)
 
 
-def shift(comm, to_left, to_right, ncols, counts=None):
+def shift(comm, to_left, to_right, ncols, counts=None, out=None):
     """Send `to_left` to rank - 1 and `to_right` to rank + 1; return what
     arrives (from_left, from_right) as (k, ncols) float64 matrices.
 
     `counts` = (from_left, from_right) row counts when the receiver knows
-    them already (a halo refresh); otherwise they are exchanged first."""
+    them already (a halo refresh); otherwise they are exchanged first.
+    `out` = (from_left, from_right): C-contiguous float64 matrices of those
+    counts to receive into (preallocated buffers; then `counts` is ignored)."""
     from mpi4py import MPI
 
     left, right = neighbours(comm)
-    if counts is None:
+    if out is not None:
+        counts = (len(out[0]), len(out[1]))
+    elif counts is None:
         sl = np.array([len(to_left)], np.int64)
         sr = np.array([len(to_right)], np.int64)
         rl = np.zeros(1, np.int64)
@@ -64,8 +68,11 @@ def shift(comm, to_left, to_right, ncols, counts=None):
         comm.Sendrecv([sr, MPI.INT64_T], dest=right, sendtag=11, recvbuf=[rl, MPI.INT64_T], source=left, recvtag=11)
         comm.Sendrecv([sl, MPI.INT64_T], dest=left, sendtag=12, recvbuf=[rr, MPI.INT64_T], source=right, recvtag=12)
         counts = (int(rl[0]), int(rr[0]))
-    from_left = np.empty((counts[0], ncols), np.float64)
-    from_right = np.empty((counts[1], ncols), np.float64)
+    if out is None:
+        from_left = np.empty((counts[0], ncols), np.float64)
+        from_right = np.empty((counts[1], ncols), np.float64)
+    else:
+        from_left, from_right = out
     sr = np.ascontiguousarray(to_right, np.float64)
     sl = np.ascontiguousarray(to_left, np.float64)
     comm.Sendrecv([sr, MPI.DOUBLE], dest=right, sendtag=13, recvbuf=[from_left, MPI.DOUBLE], source=left,

@@ -42,6 +42,24 @@ steps, threshold 1.1; the environment variables
 ``SHOAL_MPI_REBALANCE_THRESHOLD`` set them for ``shoal run``, the keyword
 arguments for the Python API. Each re-cut is recorded in ``rebalances``.
 
+Backends. The same code runs on the CPU and the CUDA backend (one GPU per
+rank, chosen by `shoal.parallel.gpu` before the backend creates its CUDA
+context). The bookkeeping of a sort (dropping the ghosts, migration,
+re-cuts, the new halo) edits NumPy arrays (`_host_of`): on the CPU the
+particle arrays themselves; with CUDA host copies of the state, filled from
+the device before and copied back after (the whole state, twice per sort),
+while the single-process sort, the physics and the integrators stay on the
+device. The halo refresh of every rate evaluation moves the send and ghost
+rows only: the backend packs the send rows into a float64 buffer (a kernel),
+the buffer goes through preallocated host memory to ``Sendrecv`` and back,
+and the backend writes the received rows into the ghost rows (a kernel);
+the ghosts' rates are zeroed on the device, and the time step, the checks
+and the probes reduce the backend's results over the ranks as on the CPU.
+No CUDA-aware MPI is needed. With CUDA the device arrays keep the size of
+the whole case (an upper bound of any rank's owned particles plus ghosts:
+distinct particles), so they never grow and the integrator's references
+stay valid; the CPU arrays are resized in place.
+
 Outputs: ``world_positions``, ``fields`` etc. give the owned particles;
 ``sample`` (probes, gauges) gives every rank the same values: each point is
 evaluated by the rank whose slab holds it (whose halo covers its support),
@@ -145,10 +163,17 @@ class DistributedModel(Model):
 
         self.rebalance_interval, self.rebalance_threshold = rebalance_settings(rebalance_interval,
                                                                                rebalance_threshold)
-        super().__init__(positions, kinds, **kw)
         self.comm = comm if comm is not None else world()
         if self.comm is None:
             raise InputError("DistributedModel needs an MPI communicator (run under mpiexec with mpi4py)")
+        self.gpus = None  # the CUDA device of every rank (`shoal.parallel.gpu.select_device`), CUDA only
+        if kw.get("backend", "cpu") == "cuda":
+            from ..backends import check_backend
+            from .gpu import select_device
+
+            check_backend("cuda")
+            self.gpus = select_device(self.comm)  # before the backend creates this process's CUDA context
+        super().__init__(positions, kinds, **kw)
         if "x" in self.periodic:
             raise InputError("a periodic x axis is not supported under MPI yet (the slabs are cut along x); "
                              "run it on one process")
@@ -171,14 +196,21 @@ class DistributedModel(Model):
         self.rebalances = []  # one dict per re-cut (see rebalance)
         self.n_global = self.n_total
         self._capacity = self.n_total
-        self.ghost = np.zeros(self.n_total, np.int8)
+        self.ghost = self.backend.zeros(self.n_total, np.int8)
         self.extra_arrays.append(self.ghost)  # follows the sort
+        # host copies of the state (a backend whose arrays are not in host memory, see `_host_of`)
+        self._host_copies = {}
+        if not self.backend.host_memory:
+            for a in self._state_arrays() + [self.ghost]:
+                self._add_host_copy(a)
+            self._to_host()
         # keep this rank's slab (ids stay global: idp indexes pos_init / motion_of of the whole set)
-        x = self.pos[: self.n, 0]
+        x = self._host_of(self.pos)[: self.n, 0]
         own = np.flatnonzero((x >= self.cuts[self.mpi_rank]) & (x < self.cuts[self.mpi_rank + 1]))
-        for a in self._state_arrays():
+        for a in self._host_state():
             a[: len(own)] = a[own]
         self.n = len(own)
+        self._to_device()
         self.n_ghost = 0
         self.n_owned = self.n
         self._in_sort = False
@@ -186,12 +218,17 @@ class DistributedModel(Model):
         self._send = (np.zeros(0, np.int64), np.zeros(0, np.int64))
         self._ghost_rows = np.zeros(0, np.int64)
         self._ghost_counts = (0, 0)
-        self._resize(max(int(1.3 * self.n) + 1024, 2 * self.n_ghost_estimate() + self.n))
+        self._buffers = {}
+        self._set_halo_rows()
+        if self.backend.host_memory:
+            self._resize(max(int(1.3 * self.n) + 1024, 2 * self.n_ghost_estimate() + self.n))
+        # else: the device arrays keep the whole case's size, an upper bound of owned + ghosts
+        # (distinct particles of the case), so they never grow and the integrator's stay valid
 
     # ---------------------------------------------------------------- arrays
     def n_ghost_estimate(self):
         """Rough number of ghosts: particles within the halo width of the slab bounds."""
-        x = self.pos[: self.n, 0]
+        x = self._host_of(self.pos)[: self.n, 0]
         lo, hi = self.cuts[self.mpi_rank], self.cuts[self.mpi_rank + 1]
         return int(np.count_nonzero((x < lo + self.halo_width) | (x >= hi - self.halo_width)))
 
@@ -199,6 +236,64 @@ class DistributedModel(Model):
         """The per-particle state that migrates and is copied to ghosts (the integrator's included)."""
         return [self.pos, self.vel, self.rho, self.kind, self.idp] + [a for a in self.extra_arrays
                                                                        if a is not self.ghost]
+
+    def _host_of(self, a):
+        """The host array the NumPy code of this class reads and edits for the particle array `a`:
+        `a` itself when the backend keeps its arrays in host memory (CPU), else `a`'s host copy.
+
+        The host copies (CUDA) hold the state at the sort: `sort` copies the state to them
+        (`_to_host`), edits them with NumPy (dropping the ghosts, migration, re-cuts, the new
+        halo) and copies them back (`_to_device`); those of ``kind``, ``idp`` and the ghost
+        flags stay valid until the next sort (only a sort moves rows), the others do not
+        (positions, velocities and densities change on the device every step)."""
+        entry = self._host_copies.get(id(a))
+        return a if entry is None else entry[1]
+
+    def _add_host_copy(self, a):
+        self._host_copies[id(a)] = (a, np.zeros(a.shape, a.dtype))  # holds `a`: its id stays unique
+
+    def _host_state(self):
+        """`_state_arrays` as the host arrays the NumPy code edits (`_host_of`)."""
+        return [self._host_of(a) for a in self._state_arrays()]
+
+    def _to_host(self, arrays=None):
+        """Copy rows 0..n of `arrays` (default: the state and the ghost flags) to their host
+        copies (nothing when the backend works in host memory)."""
+        if not self._host_copies:
+            return
+        for a in self._state_arrays() + [self.ghost] if arrays is None else arrays:
+            self.backend.copy_to_host(self._host_of(a), a, self.n)
+
+    def _to_device(self):
+        """Copy rows 0..n of the state and the ghost flags from their host copies back to the
+        backend's arrays (nothing when the backend works in host memory)."""
+        if not self._host_copies:
+            return
+        for a in self._state_arrays() + [self.ghost]:
+            self.backend.copy_into(a, self._host_of(a), self.n)
+
+    def _buffer(self, name, shape, dtype, device):
+        """The preallocated work array `name` with at least ``shape[0]`` rows: a backend
+        array (`device`) or a NumPy one, allocated again (25 % larger) only when too small."""
+        buf = self._buffers.get(name)
+        if buf is None or buf.shape[0] < shape[0] or buf.shape[1:] != tuple(shape[1:]):
+            full = (int(1.25 * shape[0]) + 64,) + tuple(shape[1:])
+            buf = self.backend.zeros(full, dtype) if device else np.zeros(full, dtype)
+            self._buffers[name] = buf
+        return buf
+
+    def _set_halo_rows(self):
+        """Put the rows the halo refresh sends (left, then right) and the ghost rows it
+        writes where the backend's kernels read them (after a sort or a restore)."""
+        send = np.concatenate(self._send).astype(np.int64)
+        ghosts = np.asarray(self._ghost_rows, np.int64)
+        if self.backend.host_memory:
+            self._send_rows, self._ghost_rows_b = send, ghosts
+            return
+        self._send_rows = self._buffer("send_rows", (len(send),), np.int64, True)
+        self._ghost_rows_b = self._buffer("ghost_rows", (len(ghosts),), np.int64, True)
+        self.backend.copy_into(self._send_rows, send, len(send))
+        self.backend.copy_into(self._ghost_rows_b, ghosts, len(ghosts))
 
     def _per_particle_arrays(self):
         cap = self._capacity
@@ -222,30 +317,34 @@ class DistributedModel(Model):
 
     def _ensure(self, rows):
         if rows > self._capacity:
+            if not self.backend.host_memory:  # cannot happen: owned + ghosts are distinct particles of the case
+                raise RuntimeError(f"{rows} particle rows needed, the device arrays hold {self._capacity}")
             self._resize(int(1.25 * rows) + 1024)
 
     def new_array(self, like):
         a = super().new_array(like)
+        if not self.backend.host_memory:
+            self._add_host_copy(a)
         # keep the ghost flag last (it is not state)
         self.extra_arrays[:] = [b for b in self.extra_arrays if b is not self.ghost] + [self.ghost]
         return a
 
     def _compact(self, rows):
-        """Move `rows` (ascending) of the state arrays to the front; n = len(rows)."""
-        for a in self._state_arrays() + [self.ghost]:
+        """Move `rows` (ascending) of the state arrays to the front; n = len(rows) (host arrays)."""
+        for a in self._host_state() + [self._host_of(self.ghost)]:
             a[: len(rows)] = a[rows]
         self.n = len(rows)
 
     # ------------------------------------------------------------ exchanges
-    def _exchange(self, to_left, to_right, ncols, counts=None):
+    def _exchange(self, to_left, to_right, ncols, counts=None, out=None):
         t0 = _time.perf_counter()
-        out = _halo.shift(self.comm, to_left, to_right, ncols, counts)
+        out = _halo.shift(self.comm, to_left, to_right, ncols, counts, out)
         self.comm_seconds += _time.perf_counter() - t0
         return out
 
     def _drop_ghosts(self):
         if self.n_ghost:
-            self._compact(np.flatnonzero(self.ghost[: self.n] == 0))
+            self._compact(np.flatnonzero(self._host_of(self.ghost)[: self.n] == 0))
         self.n_ghost = 0
 
     def _migrate(self, multi_hop=False):
@@ -255,10 +354,10 @@ class DistributedModel(Model):
         the halo width wide; farther is a blow-up). After a re-cut (`multi_hop`)
         a particle may be several slabs from its new owner: the exchange repeats,
         forwarding it one rank per round, until no rank holds a particle outside
-        its slab (collective)."""
+        its slab (collective). Works on the host arrays (`_host_of`)."""
         while True:
             r, cuts, n = self.mpi_rank, self.cuts, self.n
-            x = self.pos[:n, 0]
+            x = self._host_of(self.pos)[:n, 0]
             lo, hi = cuts[r], cuts[r + 1]
             to_left = np.flatnonzero(x < lo)
             to_right = np.flatnonzero(x >= hi)
@@ -269,7 +368,7 @@ class DistributedModel(Model):
                     raise InstabilityError(f"rank {r}: a particle crossed more than one slab in one step (slabs are "
                                            f"at least {self.halo_width:.3g} m wide): the run blew up or the time step "
                                            "is far too large")
-            arrays = self._state_arrays()
+            arrays = self._host_state()
             ncols = _halo.columns(arrays)
             send_l = _halo.pack(arrays, to_left)
             send_r = _halo.pack(arrays, to_right)
@@ -280,13 +379,13 @@ class DistributedModel(Model):
             if k:
                 n = self.n
                 self._ensure(n + k)
-                arrays = self._state_arrays()  # the same objects, resized in place
+                arrays = self._host_state()  # the same objects, resized in place
                 _halo.unpack(arrays, np.concatenate([from_l, from_r]), slice(n, n + k))
-                self.ghost[n:n + k] = 0
+                self._host_of(self.ghost)[n:n + k] = 0
                 self.n = n + k
             if not multi_hop:
                 return
-            x = self.pos[: self.n, 0]
+            x = self._host_of(self.pos)[: self.n, 0]
             outside = int(np.count_nonzero((x < self.cuts[r]) | (x >= self.cuts[r + 1])))
             if self.allreduce(outside, "sum") == 0:
                 return
@@ -294,7 +393,7 @@ class DistributedModel(Model):
     # --------------------------------------------------------- load balance
     def weighted_count(self):
         """This rank's owned active particles weighted by cost (fluid 1, wall `BOUNDARY_WEIGHT`)."""
-        kind = self.kind[: self.n][self.ghost[: self.n] == 0]
+        kind = self._host_of(self.kind)[: self.n][self.owned]
         nf = int(np.count_nonzero(kind == FLUID))
         return nf + BOUNDARY_WEIGHT * (len(kind) - nf)
 
@@ -303,7 +402,7 @@ class DistributedModel(Model):
         `rebalance_threshold` (or `force`), move the cuts to the weighted
         quantiles of the particles' current x and migrate the particles to
         their new owners. Call with no ghosts held (``sort`` does, between
-        dropping the ghosts and fetching the new halo).
+        dropping the ghosts and fetching the new halo, on the host arrays).
 
         Returns
         -------
@@ -317,17 +416,17 @@ class DistributedModel(Model):
             go, or no room for slabs one halo wide).
         """
         t0 = _time.perf_counter()
-        own = self.ghost[: self.n] == 0
+        own = self.owned
         before = weighted_counts(self.comm, self.weighted_count())
         self.comm_seconds += _time.perf_counter() - t0
         ratio = imbalance(before)
         if not force and ratio <= self.rebalance_threshold:
             return None
-        kind = self.kind[: self.n][own]
+        kind = self._host_of(self.kind)[: self.n][own]
         w = np.where(kind == FLUID, 1.0, BOUNDARY_WEIGHT)
         t0 = _time.perf_counter()
-        cuts = distributed_cuts(self.comm, self.pos[: self.n, 0][own], w, self.halo_width,
-                                keys=self.idp[: self.n][own])
+        cuts = distributed_cuts(self.comm, self._host_of(self.pos)[: self.n, 0][own], w, self.halo_width,
+                                keys=self._host_of(self.idp)[: self.n][own])
         self.comm_seconds += _time.perf_counter() - t0
         if cuts is None or np.array_equal(cuts, self.cuts):  # no room to move, or already the best cut
             return None
@@ -343,18 +442,20 @@ class DistributedModel(Model):
         return rec
 
     def _append_halo(self):
+        """Receive the neighbours' particles within the halo width as ghost rows n.. (host arrays)."""
         r, cuts, n, w = self.mpi_rank, self.cuts, self.n, self.halo_width
-        x = self.pos[:n, 0]
+        x = self._host_of(self.pos)[:n, 0]
         send_l = np.flatnonzero(x < cuts[r] + w) if r > 0 else np.zeros(0, np.int64)
         send_r = np.flatnonzero(x >= cuts[r + 1] - w) if r < self.mpi_size - 1 else np.zeros(0, np.int64)
-        arrays = self._state_arrays()
+        arrays = self._host_state()
         from_l, from_r = self._exchange(_halo.pack(arrays, send_l), _halo.pack(arrays, send_r),
                                         _halo.columns(arrays))
         g = len(from_l) + len(from_r)
         self._ensure(n + g)
-        _halo.unpack(self._state_arrays(), np.concatenate([from_l, from_r]), slice(n, n + g))
-        self.ghost[:n] = 0
-        self.ghost[n:n + g] = 1
+        _halo.unpack(self._host_state(), np.concatenate([from_l, from_r]), slice(n, n + g))
+        ghost = self._host_of(self.ghost)
+        ghost[:n] = 0
+        ghost[n:n + g] = 1
         self.n_owned = n
         self.n_ghost = g
         self.n = n + g
@@ -362,13 +463,30 @@ class DistributedModel(Model):
         self._ghost_counts = (len(from_l), len(from_r))
 
     def _refresh_halo(self):
-        """Copy the owners' current position, velocity and density into the ghosts."""
+        """Copy the owners' current position, velocity and density into the ghosts.
+
+        Only the send and ghost rows travel: the backend packs the send rows into a
+        float64 buffer (a kernel on the device), which is copied to a host buffer, sent
+        (``Sendrecv``) into the host receive buffer, copied back and unpacked into the
+        ghost rows (a kernel). On the CPU the backend and host buffers are one array.
+        The buffers are allocated once (again only when a halo outgrows them)."""
+        b = self.backend
         arrays = [self.pos, self.vel, self.rho]
         ncols = _halo.columns(arrays)
-        from_l, from_r = self._exchange(_halo.pack(arrays, self._send[0]), _halo.pack(arrays, self._send[1]),
-                                        ncols, counts=self._ghost_counts)
-        if len(self._ghost_rows):
-            _halo.unpack(arrays, np.concatenate([from_l, from_r]), self._ghost_rows)
+        kl, kr = len(self._send[0]), len(self._send[1])
+        gl, gr = self._ghost_counts
+        d_send = self._buffer("send", (kl + kr, ncols), np.float64, True)
+        d_recv = self._buffer("recv", (gl + gr, ncols), np.float64, True)
+        host = b.host_memory
+        h_send = d_send if host else self._buffer("send_host", (kl + kr, ncols), np.float64, False)
+        h_recv = d_recv if host else self._buffer("recv_host", (gl + gr, ncols), np.float64, False)
+        b.pack_rows(arrays, self._send_rows, kl + kr, d_send)
+        if not host:
+            b.copy_to_host(h_send, d_send, kl + kr)
+        self._exchange(h_send[:kl], h_send[kl:kl + kr], ncols, out=(h_recv[:gl], h_recv[gl:gl + gr]))
+        if not host:
+            b.copy_into(d_recv, h_recv, gl + gr)
+        b.unpack_rows(arrays, d_recv, self._ghost_rows_b, len(self._ghost_rows))
         self._halo_fresh = True
 
     def allreduce(self, value, op="min"):
@@ -383,27 +501,38 @@ class DistributedModel(Model):
     @property
     def owned(self):
         """(n,) bool mask of the owned (not ghost) active rows."""
-        return self.ghost[: self.n] == 0
+        return self._host_of(self.ghost)[: self.n] == 0
 
     @property
     def n_fluid(self):
         """Active fluid particles owned by this rank."""
         if self._in_sort:
             return 1  # a rank may hold no fluid; the whole run's fluid is checked collectively
-        return int(np.count_nonzero((self.kind[: self.n] == FLUID) & self.owned))
+        return int(np.count_nonzero((self._host_of(self.kind)[: self.n] == FLUID) & self.owned))
 
     def sort(self):
-        """Drop the ghosts, sort and escape the owned particles, migrate, fetch a new halo, sort again."""
-        self._drop_ghosts()
+        """Drop the ghosts, sort and escape the owned particles, migrate, fetch a new halo, sort again.
+
+        The single-process sort runs on the backend (the device); dropping the ghosts,
+        the migration, the re-cuts and the new halo edit the host arrays (`_host_of`):
+        with the CUDA backend the whole state is copied to the host and back around
+        them (twice per sort), never in a rate evaluation."""
+        if self.n_ghost:
+            self._to_host()
+            self._drop_ghosts()
+            self._to_device()
+        self.n_ghost = 0
         self._in_sort = True
         self.sort_count += 1
         k, every = self.sort_count - 1, self.rebalance_interval
         try:
             super().sort()
+            self._to_host()
             self._migrate()  # first: the slabs are ordered along x again, as distributed_cuts needs
             if every > 0 and k > 0 and k % every == 0:  # the start of step k + 1 (sort 1 is before step 1)
                 self.rebalance()
             self._append_halo()
+            self._to_device()
             n_before = self.n
             super().sort()
             assert self.n == n_before, "a migrated particle or a ghost fell outside the domain"
@@ -411,9 +540,11 @@ class DistributedModel(Model):
             self._in_sort = False
         n = self.n
         inv = np.empty(n, np.int64)
-        inv[self.grid.perm[:n]] = np.arange(n)
+        inv[self.host(self.grid.perm, 0, n)] = np.arange(n)
         self._send = (inv[self._send[0]], inv[self._send[1]])
         self._ghost_rows = inv[self.n_owned + np.arange(self.n_ghost)]
+        self._set_halo_rows()
+        self._to_host([self.kind, self.idp, self.ghost])  # valid until the next sort (see `_host_of`)
         self._halo_fresh = True
         return self.n_owned
 
@@ -422,13 +553,10 @@ class DistributedModel(Model):
             self._refresh_halo()
         self._halo_fresh = False
         super().compute_rates()
-        g = self._ghost_rows
-        if len(g):
-            self.ace[g] = 0
-            self.drho[g] = 0
-            self.vmax[g] = 0
-            if self.spec.xsph:
-                self.xsph[g] = 0
+        g = len(self._ghost_rows)
+        if g:
+            rates = [self.ace, self.drho, self.vmax] + ([self.xsph] if self.spec.xsph else [])
+            self.backend.zero_rows(rates, self._ghost_rows_b, g)
 
     def time_step_limit(self):
         return self.allreduce(super().time_step_limit(), "min")
@@ -531,7 +659,7 @@ class DistributedModel(Model):
             if src.shape[0] != n or src.shape[1:] != dst.shape[1:] or src.dtype != dst.dtype:
                 raise ValueError(f"array {name} is {src.dtype}{tuple(src.shape)}, the model's "
                                  f"{dst.dtype}(n{tuple(dst.shape[1:])})")
-            dst[:n] = src
+            self.backend.copy_into(dst, np.ascontiguousarray(src), n)
         self.n = int(n)
         self.n_owned = int(scalars["n_owned"])
         self.n_ghost = int(scalars["n_ghost"])
@@ -543,6 +671,8 @@ class DistributedModel(Model):
         self._send = (np.asarray(arrays["send_left"], np.int64).copy(),
                       np.asarray(arrays["send_right"], np.int64).copy())
         self._ghost_rows = np.asarray(arrays["ghost_rows"], np.int64).copy()
+        self._set_halo_rows()
+        self._to_host()
 
     # ---------------------------------------------------------------- output
     def world_positions(self, active_only=True):

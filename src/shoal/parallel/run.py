@@ -24,9 +24,13 @@ same number of ranks, bitwise; on another number of ranks, or from a
 single-process run's checkpoint, the particles are re-distributed (equal to
 round-off).
 
-Not yet under MPI (refused with one line): the CUDA backend, periodic x.
-Stop signals are not caught (mpiexec's own handling ends every rank,
-without a checkpoint).
+With ``--backend cuda`` each rank uses one GPU (its rank on the node modulo
+the node's devices, `shoal.parallel.gpu`; ``run.log`` and ``resolved.json``
+name each rank's device); halos and migrating particles go through host
+memory, so no CUDA-aware MPI is needed.
+
+Not yet under MPI (refused with one line): periodic x. Stop signals are not
+caught (mpiexec's own handling ends every rank, without a checkpoint).
 
 Errors: bad input is found on every rank alike (or decided on rank 0 and
 broadcast) and raised everywhere; a collective check (instability, escaped
@@ -262,8 +266,6 @@ def _escaped_recorder(out_dir, model, rank, resume_bytes=None):
 
 def unsupported(case, backend):
     """One line naming what this slice cannot run under MPI, or None."""
-    if backend != "cpu":
-        return f"the {backend} backend is not supported under MPI yet (one GPU per rank is a later slice); use --backend cpu"
     if case.domain is not None and "x" in case.domain.periodic:
         return "a periodic x axis is not supported under MPI yet (the slabs are cut along x); run it on one process"
     return None
@@ -384,6 +386,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                         mpi={"ranks": size, "slab_cuts_x": model.cuts[1:-1].tolist(),
                              "halo_width": model.halo_width, "rebalance_interval": model.rebalance_interval,
                              "rebalance_threshold": model.rebalance_threshold})
+        if model.gpus is not None:
+            resolved["mpi"]["gpus"] = model.gpus
         (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
         log = _logger(out_dir)
         log.info("case %s: %s", case.name, case.description)
@@ -393,6 +397,11 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                  ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), model.halo_width)
         log.info("load balancing: %s", f"every {model.rebalance_interval} steps when the ranks' max / mean weighted "
                  f"count exceeds {model.rebalance_threshold:g}" if model.rebalance_interval else "off")
+    if log is not None and model.gpus is not None:  # a new run or a resume: the devices of this start
+        from .gpu import describe
+
+        for line in describe(model.gpus):
+            log.info("GPU: %s", line)
     # on a resume, rank 0's probe CSVs are set aside before the recorders re-create them, then get back
     # exactly the bytes they held at the checkpoint (as a single-process resume does)
     backups = set_aside_csvs(out_dir, skip=("escaped",)) if rank == 0 and ck is not None else {}
