@@ -11,32 +11,28 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..backends.loops import row_columns
+
 
 def columns(arrays):
     """Number of float64 columns a row of `arrays` packs into."""
-    return sum(1 if a.ndim == 1 else a.shape[1] for a in arrays)
+    return sum(w for _, _, w in row_columns(arrays))
 
 
 def pack(arrays, rows):
     """(len(rows), columns) float64 matrix of the given rows of each array."""
     rows = np.asarray(rows, np.int64)
     out = np.empty((len(rows), columns(arrays)), np.float64)
-    c = 0
-    for a in arrays:
-        w = 1 if a.ndim == 1 else a.shape[1]
+    for a, c, w in row_columns(arrays):
         out[:, c:c + w] = a[rows].reshape(len(rows), w)
-        c += w
     return out
 
 
 def unpack(arrays, buf, rows):
     """Write the packed matrix `buf` into `rows` (an index array or a slice) of each array."""
-    c = 0
-    for a in arrays:
-        w = 1 if a.ndim == 1 else a.shape[1]
+    for a, c, w in row_columns(arrays):
         vals = buf[:, c:c + w]
         a[rows] = (vals[:, 0] if a.ndim == 1 else vals).astype(a.dtype)
-        c += w
 
 
 def neighbours(comm):
