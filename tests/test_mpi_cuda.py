@@ -108,8 +108,11 @@ def test_two_ranks_cuda_simulator_match_one_cpu_process(mpiexec, tmp_path):  # n
     A halo fault is orders of magnitude larger: with the ghosts not refreshed on the device at the
     second stage of the step (measured by hand) the run differs by 9.3e-8 m, 3.5e-4 m/s,
     7.7e-3 kg/m^3 and 19 Pa. The ghosts' rates are checked to be zero after the run (not zeroed,
-    they would enter the time step). The run's log and resolved.json name each rank's device
-    (both share the simulator's single device)."""
+    they would enter the time step). Each rank's device arrays hold its own particles (4 spare
+    rows and no margin here; 30 % and 1024 rows by default), fewer rows than the case; rank 0's are reallocated when the
+    re-cut sends it particles (the run then matching the CPU run shows every reference -- model,
+    grid, integrator, host copies -- followed). The run's log and resolved.json name each rank's
+    device (both share the simulator's single device)."""
     pytest.importorskip("numba.cuda")
     from shoal.output import read_vtu
 
@@ -131,6 +134,12 @@ def test_two_ranks_cuda_simulator_match_one_cpu_process(mpiexec, tmp_path):  # n
     (rec,) = res["rebalances"]  # one re-cut, particles migrated to rank 0
     assert rec["sort"] == 5 and rec["counts_before"] == [54, 122] and rec["counts_after"][0] > 80, rec
     assert min(res["ghosts_end"]) > 10 and res["ghost_rows"] == res["ghosts_end"], res
+    # device memory follows each rank's particles (at most the case's rows) and rank 0's arrays grew: reallocated, every
+    # reference re-pointed (the model's, the grid's and the integrator's)
+    for cap, rows, held in zip(res["capacity"], res["array_rows"], np.add(res["owned_end"], res["ghosts_end"])):
+        assert held <= cap <= n and rows == [cap, cap, cap], res
+    assert res["capacity"][0] < n, res
+    assert res["resizes"][0] >= 2, res  # the start's shrink, then growth at the re-cut
     assert res["pos_err"] <= 1e-12 and res["vel_err"] <= 1e-10 and res["rho_err"] <= 1e-8, res
     assert res["probe_finite"] and res["probe_err"] <= 1e-6, res
     assert res["ghost_rates_zero"] and res["owned_rates_nonzero"], res

@@ -78,13 +78,18 @@ class Model:
         at the opposite one.
     backend : str
         "cpu" (default).
+    repulsive : bool, optional
+        Compile the Monaghan-Kajtar boundary terms (default: when `kinds`
+        holds repulsive particles; a rank's slab of a case passes the whole
+        case's answer).
     """
 
-    def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
-                 gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
-                 velocities=None, motions=None, motion_of=None, periodic=(), planes=(), symmetry_y=None,
-                 backend="cpu"):
-        options = options or SPHOptions()
+    require_fluid = True  # a Model of the whole case needs fluid (a rank's slab may have none)
+
+    @staticmethod
+    def checked_particles(positions, kinds, dp, dim, require_fluid=True):
+        """(positions as float64 (N, 3), kinds as int8 (N,)), or a one-line `InputError` for a bad
+        dimension, spacing or shape, or no fluid particle (with `require_fluid`)."""
         if dim not in (2, 3):
             raise InputError(f"dim = {dim!r}; allowed 2 or 3")
         if not (np.isfinite(dp) and dp > 0):
@@ -93,10 +98,17 @@ class Model:
         kinds = np.asarray(kinds, dtype=np.int8)
         if positions.ndim != 2 or positions.shape[1] != 3 or len(kinds) != len(positions):
             raise InputError("positions must be an (N, 3) array with one kind per particle")
-        n_fluid = int(np.count_nonzero(kinds == FLUID))
-        if n_fluid == 0:
+        if require_fluid and not np.any(kinds == FLUID):
             raise InputError("the case has no fluid particles; check the fluid region lies inside the domain "
                              "and is larger than dp")
+        return positions, kinds
+
+    def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
+                 gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
+                 velocities=None, motions=None, motion_of=None, periodic=(), planes=(), symmetry_y=None,
+                 backend="cpu", repulsive=None):
+        options = options or SPHOptions()
+        positions, kinds = self.checked_particles(positions, kinds, dp, dim, require_fluid=self.require_fluid)
         self.dim = dim
         self.dp = float(dp)
         self.options = options
@@ -114,8 +126,10 @@ class Model:
             if "y" in periodic:
                 raise InputError("a symmetry plane y = const and a periodic y axis exclude each other")
             sym_code = 1 if symmetry_y[1] < 0 else 2
-        self.spec = SchemeSpec.from_options(options, dim, periodic, repulsive=bool(np.any(kinds >= REPULSIVE)),
-                                            planes=bool(planes), symmetry=sym_code)
+        if repulsive is None:
+            repulsive = bool(np.any(kinds >= REPULSIVE))
+        self.spec = SchemeSpec.from_options(options, dim, periodic, repulsive=bool(repulsive), planes=bool(planes),
+                                            symmetry=sym_code)
         self.dtype = options.dtype
         self.rho0 = float(rho0)
         self.gravity = np.asarray(gravity, dtype=np.float64)
@@ -205,6 +219,7 @@ class Model:
             (np.dtype(np.int8).str, 0): b.zeros(n, np.int8),
         }
         self.extra_arrays = []  # integrator state arrays that follow the sort
+        self.array_owners = []  # objects holding extra_arrays as attributes (see new_array)
         self.time = 0.0  # simulated time of the state (set by the Simulation)
         self.n = n
         self.n_escaped = 0
@@ -338,10 +353,23 @@ class Model:
             arrays += [self.pos_init, self.motion_of]
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
 
-    def new_array(self, like):
-        """Allocate an integrator state array that follows the particle sort."""
+    def new_array(self, like, owner=None):
+        """Allocate an integrator state array that follows the particle sort.
+
+        Parameters
+        ----------
+        like : backend array
+            The array to copy (shape, dtype and contents).
+        owner : object, optional
+            The object that keeps the array as an attribute (an integrator): a
+            model that reallocates its particle arrays (the CUDA
+            `shoal.parallel.model.DistributedModel`, whose arrays follow its
+            rank's particle count) re-points that attribute to the new array.
+        """
         a = self.backend.copy(like)
         self.extra_arrays.append(a)
+        if owner is not None and all(o is not owner for o in self.array_owners):
+            self.array_owners.append(owner)
         return a
 
     # ------------------------------------------------------------- operations

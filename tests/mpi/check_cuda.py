@@ -8,7 +8,9 @@ backend="cuda")`` (the path of ``mpiexec shoal run --backend cuda``: run.log, re
 (rank 0 holds 30 % of the weighted count) re-balanced at the 5th sort, the start of step 3
 (every 4 sorts, threshold 1.05; ``run_case`` sorts once before the Simulation's first sort), so
 the run has a re-cut and a migration (the whole state through host memory) besides the halo
-refreshes of every rate evaluation (send and ghost rows only). Rank 0 then runs
+refreshes of every rate evaluation (send and ghost rows only). The ranks' device arrays are sized to
+their own particles and estimated ghosts with 4 spare rows, so rank 0's must grow (be reallocated) when the re-cut sends
+it particles. Rank 0 then runs
 the same case on one process with the CPU backend and prints one line ``RESULTS {json}``: the
 particle ids of both runs, the largest differences by id of the positions, velocities and
 densities, of the simulated times and of a probe sampled across the slab cut, the re-cut records
@@ -61,6 +63,11 @@ start_cut = 0.5 * (x[order][i - 1] + x[order][i])
 
 
 class Unbalanced(DistributedModel):
+    spare_rows = 4
+
+    def rows_wanted(self, owned, ghosts):  # tight, so that rank 0's arrays must grow at the re-cut
+        return min(owned + ghosts + self.spare_rows, self.n_global)
+
     def __init__(self, *args, **kw):
         super().__init__(*args, cuts=[start_cut], rebalance_interval=4, rebalance_threshold=1.05, **kw)
 
@@ -82,6 +89,8 @@ probe = model.sample(POINTS)  # collective: each point from the rank whose slab 
 parts = comm.gather(mine, root=0)
 counts = comm.allgather(int(model.n_owned))
 ghosts = comm.allgather(int(model.n_ghost))
+sizes = comm.allgather((int(model._capacity), int(model.resizes), int(model.pos.shape[0]), int(model.grid.capacity),
+                        int(sim.integrator.pos0.shape[0])))
 if rank == 0:
     ids, pos, vel, rho = by_id(*(np.concatenate([q[k] for q in parts]) for k in range(4)))
     saved, par._world = par._world, None  # the single-process CPU run on this rank
@@ -109,6 +118,7 @@ if rank == 0:
         "ghost_rates_zero": all(g[0] for g in ghost_rates), "ghost_rows": [g[1] for g in ghost_rates],
         "owned_rates_nonzero": all(g[2] for g in ghost_rates),
         "rebalances": model.rebalances, "start_cut": start_cut, "cuts_end": model.cuts[1:-1].tolist(),
-        "owned_end": counts, "ghosts_end": ghosts, "gpus": model.gpus, "wall_seconds": sim.wall_seconds,
+        "owned_end": counts, "ghosts_end": ghosts, "capacity": [c[0] for c in sizes],
+        "resizes": [c[1] for c in sizes], "array_rows": [c[2:] for c in sizes], "gpus": model.gpus, "wall_seconds": sim.wall_seconds,
     }
     print("RESULTS " + json.dumps(res, default=float), flush=True)

@@ -387,19 +387,29 @@ class CudaCellGrid:
         self._inv_cs = 1.0 / self.cell_size
         self._passes = max(1, math.ceil(self.ncell.bit_length() / RADIX_BITS))
 
-        cap = max(self.capacity, 1)
         self.gdims_arr = cuda.to_device(np.array(self.gdims, dtype=np.int64))
         self._lo_d = cuda.to_device(self.lo)
         self._hi_d = cuda.to_device(self.hi)
         self._dims_d = cuda.to_device(np.asarray(self.dims, dtype=np.int64))
         self.cell_start_d = cuda.device_array(self.ncell + 2, dtype=np.int32)
+        self._allocate(self.capacity)
+        self.n_active_d = self.cell_start_d[self.ncell:self.ncell + 1]
+        self._host1 = np.zeros(1, dtype=np.int32)
+        self._n = 0
+        # an empty grid: every cell starts at 0
+        self._k["cell_starts"][_blocks(self.ncell + 2, block_size), block_size, stream](
+            self.cell_d, 0, self.ncell + 2, self.cell_start_d)
+
+    def _allocate(self, capacity):
+        """The per-particle work arrays (sorted cells, permutation, the radix sort's buffers)."""
+        cap = max(int(capacity), 1)
         self.cell_d = cuda.device_array(cap, dtype=np.int32)
         self.perm_d = cuda.device_array(cap, dtype=np.int32)
         self._keys_alt = cuda.device_array(cap, dtype=np.int32)
         self._vals_alt = cuda.device_array(cap, dtype=np.int32)
-        self._hist = cuda.device_array(RADIX * _blocks(cap, block_size), dtype=np.int32)
+        self._hist = cuda.device_array(RADIX * _blocks(cap, self.block_size), dtype=np.int32)
         # tile sums of each level of the multi-block scan of _hist
-        tile = block_size * SCAN_ITEMS
+        tile = self.block_size * SCAN_ITEMS
         self._scan_aux = []
         m = self._hist.size
         while True:
@@ -408,12 +418,14 @@ class CudaCellGrid:
             if nb <= 1:
                 break
             m = nb
-        self.n_active_d = self.cell_start_d[self.ncell:self.ncell + 1]
-        self._host1 = np.zeros(1, dtype=np.int32)
+
+    def resize(self, capacity):
+        """Hold up to `capacity` particles from now on (new work arrays; the last `bin` is
+        forgotten: call `bin` before reading `perm_d` / `cell_d` again). The cell table keeps
+        its size."""
+        self.capacity = int(capacity)
+        self._allocate(self.capacity)
         self._n = 0
-        # an empty grid: every cell starts at 0
-        self._k["cell_starts"][_blocks(self.ncell + 2, block_size), block_size, stream](
-            self.cell_d, 0, self.ncell + 2, self.cell_start_d)
 
     # the CellGrid names, so that code written for either grid takes both
     @property

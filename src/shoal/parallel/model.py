@@ -55,10 +55,20 @@ the buffer goes through preallocated host memory to ``Sendrecv`` and back,
 and the backend writes the received rows into the ghost rows (a kernel);
 the ghosts' rates are zeroed on the device, and the time step, the checks
 and the probes reduce the backend's results over the ranks as on the CPU.
-No CUDA-aware MPI is needed. With CUDA the device arrays keep the size of
-the whole case (an upper bound of any rank's owned particles plus ghosts:
-distinct particles), so they never grow and the integrator's references
-stay valid; the CPU arrays are resized in place.
+No CUDA-aware MPI is needed.
+
+Memory. Each rank's particle arrays hold its own particles and ghosts:
+after the start's cut they shrink to `rows_wanted` (1.3 times the owned
+particles, or the owned plus twice the estimated ghosts, and 1024 spare
+rows; never more than the whole case), and grow by 25 % when a migration, a
+re-cut or a new halo needs more rows. The CPU's NumPy arrays are resized in
+place; device arrays cannot be, so `_reallocate` allocates new ones, copies
+the rows on the device and re-points every reference (the model's
+attributes, the integrator's, registered by ``new_array(..., owner=)``,
+the host copies and the neighbour grid's work arrays). The motions'
+initial positions (``pos_init``, indexed by the global particle id) keep
+the whole case's size; so does each rank's host copy while the case is
+built (every rank generates it, then builds the Model of its slab).
 
 Outputs: ``world_positions``, ``fields`` etc. give the owned particles;
 ``sample`` (probes, gauges) gives every rank the same values: each point is
@@ -73,13 +83,15 @@ finds a bad particle.
 
 from __future__ import annotations
 
+import math
 import time as _time
 
 import numpy as np
 
 from ..errors import InputError, InstabilityError
 from ..model import Model
-from ..physics.spec import FLUID
+from ..options import SPHOptions
+from ..physics.spec import FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING
 from . import halo as _halo
 from .decomposition import distributed_cuts, imbalance, slab_cuts, weighted_counts
 
@@ -141,8 +153,10 @@ class CollectiveError(InstabilityError):
 class DistributedModel(Model):
     """A Model holding one MPI rank's slab (see the module docstring).
 
-    Built like a `Model` from the whole particle set (every rank generates
-    it), it keeps the rank's slab and shrinks its arrays.
+    Called like a `Model` with the whole particle set (every rank generates
+    it), it cuts the slabs, builds a `Model` of its own slab only (so a
+    rank's arrays, on the device with CUDA, never hold the whole case) and
+    sizes the arrays by `rows_wanted`.
 
     Parameters
     ----------
@@ -156,6 +170,8 @@ class DistributedModel(Model):
     rebalance_interval, rebalance_threshold : optional
         Load balancing (see the module docstring and `rebalance_settings`).
     """
+
+    require_fluid = False  # a slab may hold no fluid; the whole case is checked for some
 
     def __init__(self, positions, kinds, *, comm=None, cuts=None, rebalance_interval=None,
                  rebalance_threshold=None, **kw):
@@ -173,30 +189,47 @@ class DistributedModel(Model):
 
             check_backend("cuda")
             self.gpus = select_device(self.comm)  # before the backend creates this process's CUDA context
-        super().__init__(positions, kinds, **kw)
-        if "x" in self.periodic:
+        positions, kinds = self.checked_particles(positions, kinds, kw.get("dp"), kw.get("dim"))
+        if "x" in tuple(kw.get("periodic") or ()):
             raise InputError("a periodic x axis is not supported under MPI yet (the slabs are cut along x); "
                              "run it on one process")
         self.comm_seconds = 0.0
         self.mpi_rank = self.comm.Get_rank()
         self.mpi_size = self.comm.Get_size()
-        wide = self.spec.sps or self.spec.no_slip
-        self.halo_width = (4.0 if wide else 2.0) * self.h + 0.25 * self.h
-        kinds = np.asarray(kinds)
+        options = kw.get("options") or SPHOptions()
+        h = options.coef_h * math.sqrt(kw["dim"]) * float(kw["dp"])  # as Model.h
+        wide = options.turbulence == "sps" or bool(options.no_slip)  # SchemeSpec's sps / no_slip
+        self.halo_width = (4.0 if wide else 2.0) * h + 0.25 * h
         weights = np.where(kinds == FLUID, 1.0, BOUNDARY_WEIGHT)
         if cuts is None:
-            self.cuts = slab_cuts(np.asarray(positions, np.float64)[:, 0], weights, self.mpi_size, self.halo_width)
+            self.cuts = slab_cuts(positions[:, 0], weights, self.mpi_size, self.halo_width)
         else:
             inner = np.asarray(cuts, np.float64).ravel()
             if len(inner) != self.mpi_size - 1 or np.any(np.diff(inner) < self.halo_width):
                 raise InputError(f"cuts {inner.tolist()}: give {self.mpi_size - 1} increasing slab bounds at least "
                                  f"the halo width {self.halo_width:.4g} m apart")
             self.cuts = np.concatenate([[-np.inf], inner, [np.inf]])
+        # build this rank's slab only (its arrays, on the device with CUDA); the particle ids stay
+        # global: idp indexes pos_init / motion_of, which the motions keep for the whole case
+        x = positions[:, 0]
+        own = np.flatnonzero((x >= self.cuts[self.mpi_rank]) & (x < self.cuts[self.mpi_rank + 1]))
+        mine = dict(kw)
+        for key in ("velocities", "motion_of"):
+            if kw.get(key) is not None:
+                mine[key] = np.asarray(kw[key])[own]
+        super().__init__(positions[own], kinds[own], repulsive=bool(np.any(kinds >= REPULSIVE)), **mine)
+        self.n_global = self.n_total = len(positions)
+        self.backend.copy_into(self.idp, own.astype(np.int32), len(own))
+        if np.any((kinds == MOVING) | (kinds == REPULSIVE_MOVING)):  # a moving particle may come to any rank
+            motion_of = kw.get("motion_of")
+            cols = [0, 1, 2] if self.dim == 3 else [0, 2]
+            self._init_motions(positions[:, cols], kinds, kw.get("motions"),
+                               None if motion_of is None else np.asarray(motion_of))
         self.sort_count = 0
         self.rebalances = []  # one dict per re-cut (see rebalance)
-        self.n_global = self.n_total
-        self._capacity = self.n_total
-        self.ghost = self.backend.zeros(self.n_total, np.int8)
+        self._capacity = self.n
+        self.resizes = 0  # times the particle arrays were given another size (see `_resize`)
+        self.ghost = self.backend.zeros(max(self.n, 1), np.int8)
         self.extra_arrays.append(self.ghost)  # follows the sort
         # host copies of the state (a backend whose arrays are not in host memory, see `_host_of`)
         self._host_copies = {}
@@ -204,13 +237,6 @@ class DistributedModel(Model):
             for a in self._state_arrays() + [self.ghost]:
                 self._add_host_copy(a)
             self._to_host()
-        # keep this rank's slab (ids stay global: idp indexes pos_init / motion_of of the whole set)
-        x = self._host_of(self.pos)[: self.n, 0]
-        own = np.flatnonzero((x >= self.cuts[self.mpi_rank]) & (x < self.cuts[self.mpi_rank + 1]))
-        for a in self._host_state():
-            a[: len(own)] = a[own]
-        self.n = len(own)
-        self._to_device()
         self.n_ghost = 0
         self.n_owned = self.n
         self._in_sort = False
@@ -220,12 +246,20 @@ class DistributedModel(Model):
         self._ghost_counts = (0, 0)
         self._buffers = {}
         self._set_halo_rows()
-        if self.backend.host_memory:
-            self._resize(max(int(1.3 * self.n) + 1024, 2 * self.n_ghost_estimate() + self.n))
-        # else: the device arrays keep the whole case's size, an upper bound of owned + ghosts
-        # (distinct particles of the case), so they never grow and the integrator's stay valid
+        self._resize(self.rows_wanted(self.n, self.n_ghost_estimate()))
 
     # ---------------------------------------------------------------- arrays
+    spare_rows = 1024
+    """Rows the particle arrays hold beyond 1.3 times the owned particles (or the owned plus twice
+    the estimated ghosts): room for the water to move in before the arrays must grow."""
+
+    def rows_wanted(self, owned, ghosts):
+        """Rows to allocate for `owned` particles and about `ghosts` ghosts: max(1.3 owned +
+        `spare_rows`, owned + 2 ghosts + `spare_rows`), at most the whole case (owned and ghosts
+        are distinct particles of the case)."""
+        want = max(int(1.3 * owned), owned + 2 * ghosts) + self.spare_rows
+        return max(1, min(want, self.n_global))
+
     def n_ghost_estimate(self):
         """Rough number of ghosts: particles within the halo width of the slab bounds."""
         x = self._host_of(self.pos)[: self.n, 0]
@@ -303,26 +337,69 @@ class DistributedModel(Model):
         return arrays
 
     def _resize(self, capacity):
-        """Resize every per-particle array in place (the integrator keeps its references)."""
+        """Give every per-particle array `capacity` rows, keeping rows 0..n.
+
+        NumPy arrays (CPU) are resized in place, so every reference stays valid. Device arrays
+        (CUDA) cannot be: new ones are allocated, rows 0..n copied on the device, and every
+        reference re-pointed (`_reallocate`)."""
         capacity = max(int(capacity), 1)
         if capacity == self._capacity:
             return
-        seen = set()
-        for a in self._per_particle_arrays():
-            if id(a) in seen:
-                continue
-            seen.add(id(a))
-            a.resize((capacity,) + a.shape[1:], refcheck=False)
+        if self.backend.host_memory:
+            seen = set()
+            for a in self._per_particle_arrays():
+                if id(a) in seen:
+                    continue
+                seen.add(id(a))
+                a.resize((capacity,) + a.shape[1:], refcheck=False)
+        else:
+            self._reallocate(capacity)
         self._capacity = capacity
+        self.resizes += 1
+
+    def _reallocate(self, capacity):
+        """Device arrays of `capacity` rows in place of the current ones (rows 0..n copied on the
+        device), the references re-pointed: this model's attributes, ``scratch``,
+        ``extra_arrays``, the attributes of ``array_owners`` (the integrator), the host copies
+        (resized with them) and the neighbour grid's per-particle work arrays."""
+        b, cap = self.backend, self._capacity
+        keep = min(self.n, capacity)
+        old = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.vmax, self.pr2,
+               *self.scratch.values(), *self.extra_arrays]
+        old += [a for a in (self.xsph, self.tau, self.vwall) if a.shape[0] == cap and cap > 1]
+        new = {}
+        for a in old:
+            if id(a) not in new:
+                c = b.zeros((capacity,) + tuple(a.shape[1:]), a.dtype)
+                b.copy_into(c, a, keep)
+                new[id(a)] = c
+
+        def swap(v):
+            return new.get(id(v), v)
+
+        for obj in [self, *self.array_owners]:
+            for name, value in list(vars(obj).items()):
+                if id(value) in new:
+                    setattr(obj, name, new[id(value)])
+        for key in list(self.scratch):
+            self.scratch[key] = swap(self.scratch[key])
+        self.extra_arrays[:] = [swap(a) for a in self.extra_arrays]
+        copies = {}
+        for a, host in self._host_copies.values():
+            host.resize((capacity,) + host.shape[1:], refcheck=False)
+            c = swap(a)
+            copies[id(c)] = (c, host)
+        self._host_copies = copies
+        self.grid.resize(capacity)
+        del old  # the old arrays were alive until here, so no id above was reused
 
     def _ensure(self, rows):
+        """Grow the particle arrays (25 % beyond `rows`, plus `spare_rows`) when `rows` do not fit."""
         if rows > self._capacity:
-            if not self.backend.host_memory:  # cannot happen: owned + ghosts are distinct particles of the case
-                raise RuntimeError(f"{rows} particle rows needed, the device arrays hold {self._capacity}")
-            self._resize(int(1.25 * rows) + 1024)
+            self._resize(min(int(1.25 * rows) + self.spare_rows, max(self.n_global, rows)))
 
-    def new_array(self, like):
-        a = super().new_array(like)
+    def new_array(self, like, owner=None):
+        a = super().new_array(like, owner)
         if not self.backend.host_memory:
             self._add_host_copy(a)
         # keep the ghost flag last (it is not state)

@@ -15,9 +15,9 @@ class Symplectic:
 
     def __init__(self, model):
         self.model = model
-        self.pos0 = model.new_array(model.pos)
-        self.vel0 = model.new_array(model.vel)
-        self.rho0 = model.new_array(model.rho)
+        self.pos0 = model.new_array(model.pos, owner=self)
+        self.vel0 = model.new_array(model.vel, owner=self)
+        self.rho0 = model.new_array(model.rho, owner=self)
 
     def reset_density_history(self):
         pass

@@ -23,8 +23,8 @@ class Verlet:
 
     def __init__(self, model):
         self.model = model
-        self.vel_m1 = model.new_array(model.vel)
-        self.rho_m1 = model.new_array(model.rho)
+        self.vel_m1 = model.new_array(model.vel, owner=self)
+        self.rho_m1 = model.new_array(model.rho, owner=self)
         self.euler_every = model.options.verlet_euler_every
         self.count = 0
 

@@ -1,0 +1,120 @@
+"""The breaking tidal bore in a longer 2D flume: is its settled front within 3 % of Belanger?
+
+Runs the x-z section of `tidal-bore` (d0 = 0.1 m, U = 0.7 m/s: Belanger c = 0.873 m/s, d1 = 0.180 m,
+Fr = 1.59) with the paper's scheme and alpha = 0.02 (the scheme under which the 2D front breaks;
+`tests/test_tidal_bore.py::LOW_ALPHA`) in a flume `--length` metres long, with wave gauges every 0.5 m,
+and prints
+
+- the front's arrival at each gauge (the level half-way between d0 and d1) and its speed over each span;
+- the least-squares celerity over all gauges and over the gauges from `--settled` metres on (the front
+  forms over the first half metre: at d0/20 it runs 24 % fast there while it breaks);
+- the level behind the front at each gauge (`shoal.analysis.level_behind`, to the end of the record);
+- the kinematic breaking index B = max u_crest / c every `--snap` s (`shoal.analysis.crest_speed_ratio`;
+  B >= 1: the crest's water overtakes the front, it breaks).
+
+The moving inflow wall meets the bore at t = L / (U + c) (3.18 s in a 5 m flume, at x = 2.78 m), so the
+run ends at `--t-end` (default 0.95 L / (U + c)) and gauges beyond the meeting point are dropped.
+
+    python benchmarks/breaking_bore.py --dp 0.01 --length 5      # d0/10, ~4 min on 2 threads
+    python benchmarks/breaking_bore.py --dp 0.005 --length 5     # d0/20, ~70 min on 2 threads
+
+Writes the measures as JSON to stdout (and to `--json FILE`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def main(argv=None):
+    import shoal
+    from shoal.analysis import arrival_time, bore_from_inflow, celerity, crest_speed_ratio, level_behind
+    from shoal.cases import tidal_bore
+    from shoal.cases.tidal_bore import PAPER_OPTIONS
+    from shoal.errors import InputError
+    from shoal.options import SPHOptions
+    from shoal.output.vtu import read_vtu
+    from shoal.physics.spec import FLUID
+
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--dp", type=float, default=0.01, help="particle spacing [m] (d0/10 = 0.01, d0/20 = 0.005)")
+    p.add_argument("--U", type=float, default=0.7, help="inflow speed [m/s]")
+    p.add_argument("--length", type=float, default=5.0, help="flume length [m]")
+    p.add_argument("--alpha", type=float, default=0.02, help="artificial viscosity coefficient")
+    p.add_argument("--settled", type=float, default=1.0, help="celerity from gauges at x >= this [m]")
+    p.add_argument("--t-end", type=float, default=None, help="end time [s] (default 0.95 L / (U + c))")
+    p.add_argument("--snap", type=float, default=0.1, help="snapshot interval for the breaking index [s]")
+    p.add_argument("--json", type=Path, default=None, help="also write the measures here")
+    p.add_argument("--keep", type=Path, default=None, help="run directory to keep (default: a temporary one)")
+    a = p.parse_args(argv)
+    d0 = 0.1
+    c_ref, d1, fr = bore_from_inflow(a.U, d0)
+    t_meet = a.length / (a.U + c_ref)
+    t_end = a.t_end if a.t_end is not None else 0.95 * t_meet
+    x_meet = c_ref * t_end
+    gauges = [x for x in np.arange(0.5, a.length, 0.5) if x < x_meet - 0.1]
+    if len(gauges) < 2:
+        raise InputError(f"a {a.length:g} m flume to t = {t_end:g} s leaves fewer than two gauges; lengthen it")
+    opts = SPHOptions(**dict(PAPER_OPTIONS, alpha=a.alpha))
+    case = tidal_bore(dp=a.dp, inflow_speed=a.U, dim=2, end_time=t_end, output_interval=a.snap, options=opts,
+                      length=a.length, gauges_x=gauges)
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        run_dir = a.keep or Path(tmp) / "run"
+        res = shoal.run_case(case, run_dir, plot=False, handle_signals=False)
+        thr = d0 + 0.5 * (d1 - d0)
+        arrivals, levels = [], []
+        for x in gauges:
+            data = np.loadtxt(run_dir / f"gauge_x{x:g}.csv", delimiter=",", skiprows=1, ndmin=2)
+            t, z = data[:, 0], data[:, 1]
+            ta = arrival_time(t, z, thr)
+            arrivals.append(ta)
+            try:
+                levels.append(level_behind(t, z, ta) if np.isfinite(ta) else float("nan"))
+            except InputError:
+                levels.append(float("nan"))
+        index = []
+        for f in sorted(run_dir.glob("tidal-bore_*.vtu")):
+            pts, data = read_vtu(f)
+            fluid = data["kind"] == FLUID
+            index.append(crest_speed_ratio(pts[fluid], data["velocity"][fluid], d0, d1, c_ref))
+    wall = time.perf_counter() - t0
+    xs, ts = np.array(gauges), np.array(arrivals)
+    spans = [dict(x0=float(xs[i]), x1=float(xs[i + 1]), speed=float((xs[i + 1] - xs[i]) / (ts[i + 1] - ts[i])),
+                  error=float((xs[i + 1] - xs[i]) / (ts[i + 1] - ts[i]) / c_ref - 1)) for i in range(len(xs) - 1)]
+    settled = xs >= a.settled - 1e-9
+    c_all = celerity(xs, ts)
+    c_set = celerity(xs[settled], ts[settled]) if settled.sum() >= 2 else float("nan")
+    lev = {f"{x:g}": (float(v), float(v / d1 - 1)) for x, v in zip(xs, levels)}
+    snap_t = [round(a.snap * k, 6) for k in range(len(index))]
+    first_break = next((t for t, b in zip(snap_t, index) if b >= 1.0), None)
+    out = dict(dp=a.dp, U=a.U, length=a.length, alpha=a.alpha, t_end=t_end, particles=int(res.particles),
+               escaped=int(res.escaped), steps=int(res.steps), wall_s=round(wall),
+               belanger=dict(c=c_ref, d1=d1, froude=fr), gauges=list(map(float, xs)),
+               arrivals=list(map(float, ts)), spans=spans, celerity_all=c_all, celerity_all_error=c_all / c_ref - 1,
+               celerity_settled=c_set, celerity_settled_error=c_set / c_ref - 1, settled_from=a.settled,
+               level_behind=lev, breaking_index=dict(times=snap_t, B=[float(b) for b in index],
+                                                     max=float(max(index)) if index else None,
+                                                     first_above_1=first_break))
+    text = json.dumps(out, indent=1)
+    print(text)
+    if a.json:
+        a.json.write_text(text + "\n")
+    return out
+
+
+if __name__ == "__main__":
+    from shoal.errors import InputError
+
+    try:
+        main()
+    except InputError as err:
+        print(f"breaking_bore.py: {err}", file=sys.stderr)
+        sys.exit(2)
