@@ -213,6 +213,10 @@ def test_dam_break_two_ranks_matches_one(dam_break_runs):
     assert np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * dp, np.column_stack([g1, g2[:, 1]])
     log = (two / "run.log").read_text()
     assert "2 MPI ranks" in log and "communication" in log and "load balance at the end" in log
+    mem = [line for line in log.splitlines() if "memory per rank, host arrays" in line]
+    assert len(mem) == 1 and "rank 0: " in mem[0] and "rank 1: " in mem[0], log
+    rows = [int(r.split(" rows")[0].split(": ")[-1]) for r in mem[0].split(": ", 1)[1].split("; ")]
+    assert all(r < case.n_particles for r in rows), mem  # each rank holds its slab, not the case
 
 
 def _csv_rows(path):

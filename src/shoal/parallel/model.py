@@ -253,6 +253,11 @@ class DistributedModel(Model):
     """Rows the particle arrays hold beyond 1.3 times the owned particles (or the owned plus twice
     the estimated ghosts): room for the water to move in before the arrays must grow."""
 
+    @property
+    def capacity(self):
+        """Rows each per-particle array holds now (owned, ghosts and spare)."""
+        return self._capacity
+
     def rows_wanted(self, owned, ghosts):
         """Rows to allocate for `owned` particles and about `ghosts` ghosts: max(1.3 owned +
         `spare_rows`, owned + 2 ghosts + `spare_rows`), at most the whole case (owned and ghosts

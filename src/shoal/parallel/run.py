@@ -498,6 +498,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
     log_rebalances()
     balance = weighted_counts(comm, model.weighted_count())
     owned_counts = comm.allgather(int(model.n_owned))
+    memory = comm.allgather((int(model.capacity), int(model.nbytes()), int(model.resizes)))
     data = model.gather_particles() if plot else None
     if plot and rank == 0:
         from ..output import plot_particles
@@ -520,5 +521,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                  100.0 * comm_max / max(wall, 1e-9))
         log.info("load balance at the end: %d re-cuts, max/mean weighted count %.3f, particles per rank %s",
                  len(model.rebalances), imbalance(balance), owned_counts)
+        log.info("memory per rank, %s arrays (particle, work, grid): %s", "device" if backend == "cuda" else "host",
+                 "; ".join(f"rank {r}: {rows} rows, {nb / 2**20:.1f} MiB ({nb / max(own, 1):.0f} B per owned particle), "
+                           f"{k} re-size(s)" for r, ((rows, nb, k), own) in enumerate(zip(memory, owned_counts))))
         _close_log(log)
     return result
