@@ -742,3 +742,45 @@ def test_moving_wall_two_ranks_matches_one(mpiexec, tmp_path):
     g1 = np.loadtxt(tmp_path / "one" / "gauge_x0.3.csv", delimiter=",", skiprows=1)
     g2 = np.loadtxt(tmp_path / "two" / "gauge_x0.3.csv", delimiter=",", skiprows=1)
     assert g1.shape == g2.shape and np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * dp
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+def test_stop_signal_on_two_ranks_checkpoints_and_resumes(mpiexec, tmp_path, sig):
+    """A stop signal to ``mpiexec -n 2 shoal run`` (which forwards it to every rank; a batch system
+    signals every task itself) ends the run after the same step on both ranks (they agree after each
+    step) with a final checkpoint on 2 ranks and exit status 128 + the signal (130, 143), as on one
+    process; ``--resume`` then continues it on 2 ranks to the end."""
+    import signal
+    import time
+
+    import shoal
+    from shoal.cases import dam_break_2d
+
+    case = dam_break_2d(dp=0.02, end_time=60.0, output_interval=10.0)  # far longer than the test waits
+    toml = tmp_path / "case.toml"
+    shoal.write_case(case, toml)
+    out = tmp_path / "run"
+    run = [sys.executable, "-m", "shoal", "run", "--no-plot", "--no-progress"]
+    proc = subprocess.Popen([*mpiexec, "-n", "2", *run, str(toml), "--out", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=_env())
+    log = out / "run.log"
+    deadline = time.monotonic() + 240
+    while time.monotonic() < deadline and proc.poll() is None:  # stepping (the handlers are installed)
+        if log.exists() and " INFO step " in log.read_text():
+            break
+        time.sleep(0.5)
+    assert proc.poll() is None, proc.communicate()
+    proc.send_signal(getattr(signal, sig))
+    stdout, stderr = proc.communicate(timeout=120)
+    status = 128 + getattr(signal, sig)
+    assert proc.returncode == status, (proc.returncode, stdout[-1000:], stderr[-2000:])
+    assert f"stopped by {sig} at step" in stderr and "--resume" in stderr, stderr
+    (man,) = sorted(out.glob("ckpt_*.mpi.json"))
+    meta = json.loads(man.read_text())
+    step = int(man.name.split("_")[1].split(".")[0])
+    assert len(list(out.glob(f"ckpt_{step:06d}.rank*.h5"))) == 2, meta
+    assert f"WARNING stopped by {sig} at step {step}," in log.read_text()
+    t_stop = float(stderr.split(f"at step {step}, t = ")[1].split(" s")[0])
+    r = subprocess.run([*mpiexec, "-n", "2", *run, "--resume", str(out), "--end-time", f"{t_stop + 0.02:.6g}"],
+                       capture_output=True, text=True, timeout=300, env=_env())
+    assert r.returncode == 0 and f"resumed from {man.name}" in r.stdout, r.stdout[-1000:] + r.stderr[-2000:]

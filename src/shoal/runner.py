@@ -207,7 +207,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         from .parallel.run import run_case_mpi
 
         return run_case_mpi(case, out_dir, world(), backend=backend, progress=progress, plot=plot,
-                            max_steps=max_steps, overwrite=overwrite, resume=resume)
+                            max_steps=max_steps, overwrite=overwrite, resume=resume, handle_signals=handle_signals)
     out_dir = Path(out_dir)
     warnings = []
     ck = None

@@ -29,8 +29,14 @@ the node's devices, `shoal.parallel.gpu`; ``run.log`` and ``resolved.json``
 name each rank's device); halos and migrating particles go through host
 memory, so no CUDA-aware MPI is needed.
 
-Not yet under MPI (refused with one line): periodic x. Stop signals are not
-caught (mpiexec's own handling ends every rank, without a checkpoint).
+Stop signals: SIGINT / SIGTERM reaching any rank (mpiexec forwards them to
+every rank; a batch system signals every task) end the run after the same
+step on every rank (the ranks agree after each step, one MAX reduction),
+with a final checkpoint, and `RunInterrupted` on every rank (``shoal run``
+exits with 128 + the signal number), as a single-process run; a second
+signal aborts at once, the last checkpoint kept.
+
+Not yet under MPI (refused with one line): periodic x.
 
 Errors: bad input is found on every rank alike (or decided on rank 0 and
 broadcast) and raised everywhere; a collective check (instability, escaped
@@ -272,7 +278,7 @@ def unsupported(case, backend):
 
 
 def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False,
-                 resume=False):
+                 resume=False, handle_signals=True):
     """`shoal.run_case` on every rank of `comm` (see the module docstring). Returns a `RunResult`
     on every rank (``particles``, ``escaped``: whole-run figures)."""
     rank = comm.Get_rank()
@@ -309,7 +315,7 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
 
         model = build_model(case, backend)  # a DistributedModel: deterministic errors, raised on every rank
         started = True
-        return _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point)
+        return _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point, handle_signals)
     except BaseException as err:  # noqa: BLE001 -- anything not raised on every rank alike ends every rank
         if getattr(err, "collective", False) or (not started and isinstance(err, InputError)):
             raise
@@ -353,8 +359,12 @@ def _checkpoint_schedule(cfg, comm):
     return sched
 
 
-def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point=None):
+def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point=None, handle_signals=True):
     import time as _time
+    from contextlib import nullcontext
+    from types import SimpleNamespace
+
+    from ..simulation.signals import StopOnSignals
 
     from ..casefile import dumps_case, write_case
     from ..probes import make_recorder
@@ -447,6 +457,15 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                     f"{case.max_escaped_fraction:g} (list in escaped*.csv): enlarge the domain, or check the inflow, "
                     "the walls and the time step")
         sim.add_callback(escaped_check, IterationInterval(1), name="escaped")
+    # stop signals: the handler marks this rank only (`mark`); every step the ranks agree (a MAX
+    # reduction) and all stop after the same step, so the final checkpoint is collective
+    mark = SimpleNamespace(stop_requested=False)
+
+    def agree_stop(s):
+        if model.allreduce(int(mark.stop_requested), "max"):
+            s.stop_requested = True
+
+    sim.add_callback(agree_stop, IterationInterval(1), name="stop signals")
     ckw = MPICheckpointWriter(out_dir, dumps_case(case, file_name="case.toml"), case.checkpoint.keep, comm, log,
                               escaped)
     ck_cb = sim.add_callback(ckw, _checkpoint_schedule(case.checkpoint, comm), name="checkpoint")  # last
@@ -469,8 +488,10 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                      "t = %g s", man.name, how, ck.step, ck.time, sim.dt or 0.0,
                      ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), case.end_time)
     t0 = _time.perf_counter()
+    stopper = StopOnSignals(mark) if handle_signals else nullcontext()
     try:
-        sim.run(max_steps=max_steps)
+        with stopper:
+            sim.run(max_steps=max_steps)
     except InstabilityError as err:
         bar.stop()
         for rec in closers:
@@ -485,11 +506,22 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         raise CollectiveError(f"{err} (state written to {path or out_dir})") from None
     finally:
         bar.stop()
+    signum = model.allreduce(int(getattr(stopper, "signum", None) or 0), "max") if sim.stop_requested else 0
     if writer.last_time is None or writer.last_time < sim.time - 1e-12:
         writer(sim)
     final = ckw.write(sim)  # before closing the recorders: it records their files' lengths
     for rec in closers:
         rec.close()
+    if signum:
+        import signal as _signal
+
+        msg = (f"stopped by {_signal.Signals(signum).name} at step {sim.step_count}, t = {sim.time:.6g} s; "
+               f"checkpoint {final.name} written on {size} ranks; continue with: mpiexec -n {size} shoal run "
+               f"--resume {out_dir}")
+        if log is not None:
+            log.warning("%s", msg)
+            _close_log(log)
+        raise RunInterrupted(msg, signum, final)
     wall = _time.perf_counter() - t0
     comm_max = model.allreduce(model.comm_seconds, "max")
     comm_min = model.allreduce(model.comm_seconds, "min")
