@@ -54,18 +54,6 @@ def test_describe_names_each_rank_and_shared_devices():
     assert len(describe([entry(0, "a", 0, 2), entry(1, "a", 1, 2)])) == 2
 
 
-def test_cuda_backend_is_not_refused_under_mpi():
-    """``--backend cuda`` under mpiexec is no longer refused; a periodic x axis still is."""
-    from shoal.case import Domain
-    from shoal.cases import dam_break_2d
-    from shoal.parallel.run import unsupported
-
-    case = dam_break_2d(dp=0.02)
-    assert unsupported(case, "cuda") is None and unsupported(case, "cpu") is None
-    periodic = case.model_copy(update={"domain": Domain(lo=(0, 0, 0), hi=(1, 0, 1), periodic=["x"])})
-    assert "periodic x" in unsupported(periodic, "cuda")
-
-
 def test_cpu_row_helpers_match_halo_pack():
     """The CPU backend's `pack_rows` / `unpack_rows` / `zero_rows` (what the halo refresh calls on
     every backend) give exactly `shoal.parallel.halo.pack` / `unpack` (float64, float32, int8 and

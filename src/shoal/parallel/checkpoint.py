@@ -429,7 +429,7 @@ def _restore_redistributed(sim, ck):
     x = ck.particles["pos"][:, 0].astype(np.float64)
     w = np.where(ck.particles["kind"] == FLUID, 1.0, BOUNDARY_WEIGHT)
     try:
-        cuts = slab_cuts(x, w, m.mpi_size, m.halo_width)
+        cuts = slab_cuts(x, w, m.mpi_size, m.min_slab_width)
     except InputError as err:
         raise CollectiveInputError(f"cannot resume on {m.mpi_size} ranks: {err}") from None
     r = m.mpi_rank

@@ -4,7 +4,10 @@ Particle rows travel as one float64 matrix per direction (float32 and
 integer columns are exact in float64): the receiver knows the column layout
 from its own arrays. Every exchange is a pair of ``Sendrecv`` calls, first
 rightwards (send to rank + 1, receive from rank - 1), then leftwards, with
-``MPI.PROC_NULL`` at the ends, so it never deadlocks.
+``MPI.PROC_NULL`` at the ends (or, along a periodic x axis, round the ring:
+the last rank and rank 0 are neighbours; with 2 ranks each is the other's
+left and right, the tags keep the two directions apart), so it never
+deadlocks.
 """
 
 from __future__ import annotations
@@ -35,17 +38,20 @@ def unpack(arrays, buf, rows):
         a[rows] = (vals[:, 0] if a.ndim == 1 else vals).astype(a.dtype)
 
 
-def neighbours(comm):
-    """(left, right) ranks, MPI.PROC_NULL at the ends."""
+def neighbours(comm, ring=False):
+    """(left, right) ranks: MPI.PROC_NULL at the ends, or with `ring` (a periodic x axis) the
+    last rank left of rank 0 and rank 0 right of the last."""
     from mpi4py import MPI
 
     r, s = comm.Get_rank(), comm.Get_size()
+    if ring:
+        return (r - 1) % s, (r + 1) % s
     return (r - 1 if r > 0 else MPI.PROC_NULL), (r + 1 if r < s - 1 else MPI.PROC_NULL)
 
 
-def shift(comm, to_left, to_right, ncols, counts=None, out=None):
-    """Send `to_left` to rank - 1 and `to_right` to rank + 1; return what
-    arrives (from_left, from_right) as (k, ncols) float64 matrices.
+def shift(comm, to_left, to_right, ncols, counts=None, out=None, ring=False):
+    """Send `to_left` to rank - 1 and `to_right` to rank + 1 (round the ring with `ring`); return
+    what arrives (from_left, from_right) as (k, ncols) float64 matrices.
 
     `counts` = (from_left, from_right) row counts when the receiver knows
     them already (a halo refresh); otherwise they are exchanged first.
@@ -53,7 +59,7 @@ def shift(comm, to_left, to_right, ncols, counts=None, out=None):
     counts to receive into (preallocated buffers; then `counts` is ignored)."""
     from mpi4py import MPI
 
-    left, right = neighbours(comm)
+    left, right = neighbours(comm, ring)
     if out is not None:
         counts = (len(out[0]), len(out[1]))
     elif counts is None:

@@ -190,9 +190,7 @@ class DistributedModel(Model):
             check_backend("cuda")
             self.gpus = select_device(self.comm)  # before the backend creates this process's CUDA context
         positions, kinds = self.checked_particles(positions, kinds, kw.get("dp"), kw.get("dim"))
-        if "x" in tuple(kw.get("periodic") or ()):
-            raise InputError("a periodic x axis is not supported under MPI yet (the slabs are cut along x); "
-                             "run it on one process")
+        self.ring = "x" in tuple(kw.get("periodic") or ())  # periodic x: the slabs close into a ring
         self.comm_seconds = 0.0
         self.mpi_rank = self.comm.Get_rank()
         self.mpi_size = self.comm.Get_size()
@@ -200,14 +198,17 @@ class DistributedModel(Model):
         h = options.coef_h * math.sqrt(kw["dim"]) * float(kw["dp"])  # as Model.h
         wide = options.turbulence == "sps" or bool(options.no_slip)  # SchemeSpec's sps / no_slip
         self.halo_width = (4.0 if wide else 2.0) * h + 0.25 * h
+        # with a ring of 2 ranks the neighbour on both sides is the same rank: a slab narrower than
+        # two halo widths would send it a particle twice
+        self.min_slab_width = (2.0 if self.ring and self.mpi_size == 2 else 1.0) * self.halo_width
         weights = np.where(kinds == FLUID, 1.0, BOUNDARY_WEIGHT)
         if cuts is None:
-            self.cuts = slab_cuts(positions[:, 0], weights, self.mpi_size, self.halo_width)
+            self.cuts = slab_cuts(positions[:, 0], weights, self.mpi_size, self.min_slab_width)
         else:
             inner = np.asarray(cuts, np.float64).ravel()
-            if len(inner) != self.mpi_size - 1 or np.any(np.diff(inner) < self.halo_width):
+            if len(inner) != self.mpi_size - 1 or np.any(np.diff(inner) < self.min_slab_width):
                 raise InputError(f"cuts {inner.tolist()}: give {self.mpi_size - 1} increasing slab bounds at least "
-                                 f"the halo width {self.halo_width:.4g} m apart")
+                                 f"{self.min_slab_width:.4g} m apart")
             self.cuts = np.concatenate([[-np.inf], inner, [np.inf]])
         # build this rank's slab only (its arrays, on the device with CUDA); the particle ids stay
         # global: idp indexes pos_init / motion_of, which the motions keep for the whole case
@@ -219,6 +220,7 @@ class DistributedModel(Model):
                 mine[key] = np.asarray(kw[key])[own]
         super().__init__(positions[own], kinds[own], repulsive=bool(np.any(kinds >= REPULSIVE)), **mine)
         self.n_global = self.n_total = len(positions)
+        self.x_period = (self._period_lo[0], float(self.params.per_len_x)) if self.ring else None  # (lo, L) [m]
         self.backend.copy_into(self.idp, own.astype(np.int32), len(own))
         if np.any((kinds == MOVING) | (kinds == REPULSIVE_MOVING)):  # a moving particle may come to any rank
             motion_of = kw.get("motion_of")
@@ -265,11 +267,30 @@ class DistributedModel(Model):
         want = max(int(1.3 * owned), owned + 2 * ghosts) + self.spare_rows
         return max(1, min(want, self.n_global))
 
+    def slab(self, r=None):
+        """(lo, hi) [m] of rank `r`'s slab (default this rank's): the cuts, with the domain's ends
+        for the outer ranks along a periodic x axis (elsewhere they are -inf / +inf)."""
+        r = self.mpi_rank if r is None else r
+        lo, hi = float(self.cuts[r]), float(self.cuts[r + 1])
+        if self.x_period is not None:
+            lo = self.x_period[0] if r == 0 else lo
+            hi = self.x_period[0] + self.x_period[1] if r == self.mpi_size - 1 else hi
+        return lo, hi
+
+    def _sends(self, x):
+        """(to the left, to the right): the rows of positions `x` within the halo width of this
+        slab's left / right bound, for the neighbour on that side (none at an end without one)."""
+        r, w = self.mpi_rank, self.halo_width
+        lo, hi = self.slab()
+        none = np.zeros(0, np.int64)
+        left = np.flatnonzero(x < lo + w) if r > 0 or self.ring else none
+        right = np.flatnonzero(x >= hi - w) if r < self.mpi_size - 1 or self.ring else none
+        return left, right
+
     def n_ghost_estimate(self):
         """Rough number of ghosts: particles within the halo width of the slab bounds."""
-        x = self._host_of(self.pos)[: self.n, 0]
-        lo, hi = self.cuts[self.mpi_rank], self.cuts[self.mpi_rank + 1]
-        return int(np.count_nonzero((x < lo + self.halo_width) | (x >= hi - self.halo_width)))
+        left, right = self._sends(self._host_of(self.pos)[: self.n, 0])
+        return len(left) + len(right)
 
     def _state_arrays(self):
         """The per-particle state that migrates and is copied to ghosts (the integrator's included)."""
@@ -420,7 +441,7 @@ class DistributedModel(Model):
     # ------------------------------------------------------------ exchanges
     def _exchange(self, to_left, to_right, ncols, counts=None, out=None):
         t0 = _time.perf_counter()
-        out = _halo.shift(self.comm, to_left, to_right, ncols, counts, out)
+        out = _halo.shift(self.comm, to_left, to_right, ncols, counts, out, ring=self.ring)
         self.comm_seconds += _time.perf_counter() - t0
         return out
 
@@ -441,9 +462,16 @@ class DistributedModel(Model):
             r, cuts, n = self.mpi_rank, self.cuts, self.n
             x = self._host_of(self.pos)[:n, 0]
             lo, hi = cuts[r], cuts[r + 1]
-            to_left = np.flatnonzero(x < lo)
-            to_right = np.flatnonzero(x >= hi)
-            if not multi_hop:
+            if self.ring:  # the shorter way round: a particle that left the domain's end was wrapped
+                lo, hi = self.slab()
+                L = self.x_period[1]
+                out = (x < lo) | (x >= hi)
+                leftwards = out & (np.mod(lo - x, L) <= np.mod(x - hi, L))
+                to_left, to_right = np.flatnonzero(leftwards), np.flatnonzero(out & ~leftwards)
+            else:
+                to_left = np.flatnonzero(x < lo)
+                to_right = np.flatnonzero(x >= hi)
+            if not multi_hop and not self.ring:
                 too_far = r > 0 and np.any(x[to_left] < cuts[r - 1])
                 too_far = too_far or (r + 2 < len(cuts) and np.any(x[to_right] >= cuts[r + 2]))
                 if too_far:
@@ -507,7 +535,7 @@ class DistributedModel(Model):
         kind = self._host_of(self.kind)[: self.n][own]
         w = np.where(kind == FLUID, 1.0, BOUNDARY_WEIGHT)
         t0 = _time.perf_counter()
-        cuts = distributed_cuts(self.comm, self._host_of(self.pos)[: self.n, 0][own], w, self.halo_width,
+        cuts = distributed_cuts(self.comm, self._host_of(self.pos)[: self.n, 0][own], w, self.min_slab_width,
                                 keys=self._host_of(self.idp)[: self.n][own])
         self.comm_seconds += _time.perf_counter() - t0
         if cuts is None or np.array_equal(cuts, self.cuts):  # no room to move, or already the best cut
@@ -525,10 +553,8 @@ class DistributedModel(Model):
 
     def _append_halo(self):
         """Receive the neighbours' particles within the halo width as ghost rows n.. (host arrays)."""
-        r, cuts, n, w = self.mpi_rank, self.cuts, self.n, self.halo_width
-        x = self._host_of(self.pos)[:n, 0]
-        send_l = np.flatnonzero(x < cuts[r] + w) if r > 0 else np.zeros(0, np.int64)
-        send_r = np.flatnonzero(x >= cuts[r + 1] - w) if r < self.mpi_size - 1 else np.zeros(0, np.int64)
+        n = self.n
+        send_l, send_r = self._sends(self._host_of(self.pos)[:n, 0])
         arrays = self._host_state()
         from_l, from_r = self._exchange(_halo.pack(arrays, send_l), _halo.pack(arrays, send_r),
                                         _halo.columns(arrays))

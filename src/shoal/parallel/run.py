@@ -36,7 +36,12 @@ with a final checkpoint, and `RunInterrupted` on every rank (``shoal run``
 exits with 128 + the signal number), as a single-process run; a second
 signal aborts at once, the last checkpoint kept.
 
-Not yet under MPI (refused with one line): periodic x.
+A periodic x axis closes the slabs into a ring: the last rank and rank 0
+exchange halos and migrating particles like any two neighbours (a particle
+leaving the domain's end is wrapped by the single-process sort and sent the
+shorter way round; the ghosts keep their true positions, which the periodic
+neighbour search wraps). With 2 ranks each slab is at least two halo widths
+wide, since the neighbour on both sides is the same rank.
 
 Errors: bad input is found on every rank alike (or decided on rank 0 and
 broadcast) and raised everywhere; a collective check (instability, escaped
@@ -270,13 +275,6 @@ def _escaped_recorder(out_dir, model, rank, resume_bytes=None):
     return rec
 
 
-def unsupported(case, backend):
-    """One line naming what this slice cannot run under MPI, or None."""
-    if case.domain is not None and "x" in case.domain.periodic:
-        return "a periodic x axis is not supported under MPI yet (the slabs are cut along x); run it on one process"
-    return None
-
-
 def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False,
                  resume=False, handle_signals=True):
     """`shoal.run_case` on every rank of `comm` (see the module docstring). Returns a `RunResult`
@@ -291,9 +289,6 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
 
             try:
                 snapshot_mode()
-                m = unsupported(case, backend)
-                if m:
-                    raise InputError(m)
                 if resume:
                     if not out_dir.is_dir() or not (out_dir / "resolved.json").exists() and not any(
                             out_dir.glob("ckpt_*")):
@@ -465,7 +460,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         if model.allreduce(int(mark.stop_requested), "max"):
             s.stop_requested = True
 
-    sim.add_callback(agree_stop, IterationInterval(1), name="stop signals")
+    sim.after_step.append(agree_stop)  # not a callback: a checkpoint's callbacks stay those of one process
     ckw = MPICheckpointWriter(out_dir, dumps_case(case, file_name="case.toml"), case.checkpoint.keep, comm, log,
                               escaped)
     ck_cb = sim.add_callback(ckw, _checkpoint_schedule(case.checkpoint, comm), name="checkpoint")  # last

@@ -68,6 +68,9 @@ class Simulation:
         self.check_every = check_every
         self.wall_seconds = 0.0
         self.stop_requested = False  # set (e.g. by a signal handler) to end the run after the current step
+        # func(sim) run after every step's callbacks, with no schedule and no state in checkpoints
+        # (the MPI ranks' agreement on a stop signal)
+        self.after_step = []
         self.started = False  # the initial sort, check and t = 0 callbacks are done (or restored from a checkpoint)
         self.options = model.options
 
@@ -149,6 +152,8 @@ class Simulation:
                 self.step()
                 steps += 1
                 self._run_callbacks()
+                for func in self.after_step:
+                    func(self)
         finally:
             self.wall_seconds += _time.perf_counter() - t0
         return self
