@@ -15,8 +15,8 @@ and prints
 The moving inflow wall meets the bore at t = L / (U + c) (3.18 s in a 5 m flume, at x = 2.78 m), so the
 run ends at `--t-end` (default 0.95 L / (U + c)) and gauges beyond the meeting point are dropped.
 
-    python benchmarks/breaking_bore.py --dp 0.01 --length 5      # d0/10, ~4 min on 2 threads
-    python benchmarks/breaking_bore.py --dp 0.005 --length 5     # d0/20, ~70 min on 2 threads
+    python benchmarks/breaking_bore.py --dp 0.01 --length 5      # d0/10, about 5 min on 2 threads
+    python benchmarks/breaking_bore.py --dp 0.005 --length 5     # d0/20, 51 min on 2 threads
 
 Writes the measures as JSON to stdout (and to `--json FILE`).
 """
