@@ -48,6 +48,8 @@ def main(argv=None):
     p.add_argument("--U", type=float, default=0.7, help="inflow speed [m/s]")
     p.add_argument("--length", type=float, default=5.0, help="flume length [m]")
     p.add_argument("--alpha", type=float, default=0.02, help="artificial viscosity coefficient")
+    p.add_argument("--options", type=json.loads, default={},
+                   help='other SPHOptions as JSON over the paper scheme, e.g. \'{"mls_every": 0}\'')
     p.add_argument("--settled", type=float, default=1.0, help="celerity from gauges at x >= this [m]")
     p.add_argument("--t-end", type=float, default=None, help="end time [s] (default 0.95 L / (U + c))")
     p.add_argument("--snap", type=float, default=0.1, help="snapshot interval for the breaking index [s]")
@@ -62,7 +64,7 @@ def main(argv=None):
     gauges = [x for x in np.arange(0.5, a.length, 0.5) if x < x_meet - 0.1]
     if len(gauges) < 2:
         raise InputError(f"a {a.length:g} m flume to t = {t_end:g} s leaves fewer than two gauges; lengthen it")
-    opts = SPHOptions(**dict(PAPER_OPTIONS, alpha=a.alpha))
+    opts = SPHOptions(**dict(PAPER_OPTIONS, alpha=a.alpha, **a.options))
     case = tidal_bore(dp=a.dp, inflow_speed=a.U, dim=2, end_time=t_end, output_interval=a.snap, options=opts,
                       length=a.length, gauges_x=gauges)
     t0 = time.perf_counter()
@@ -95,7 +97,7 @@ def main(argv=None):
     lev = {f"{x:g}": (float(v), float(v / d1 - 1)) for x, v in zip(xs, levels)}
     snap_t = [round(a.snap * k, 6) for k in range(len(index))]
     first_break = next((t for t, b in zip(snap_t, index) if b >= 1.0), None)
-    out = dict(dp=a.dp, U=a.U, length=a.length, alpha=a.alpha, t_end=t_end, particles=int(res.particles),
+    out = dict(dp=a.dp, U=a.U, length=a.length, alpha=a.alpha, options=a.options, t_end=t_end, particles=int(res.particles),
                escaped=int(res.escaped), steps=int(res.steps), wall_s=round(wall),
                belanger=dict(c=c_ref, d1=d1, froude=fr), gauges=list(map(float, xs)),
                arrivals=list(map(float, ts)), spans=spans, celerity_all=c_all, celerity_all_error=c_all / c_ref - 1,
