@@ -103,6 +103,11 @@ class Model:
                              "and is larger than dp")
         return positions, kinds
 
+    @staticmethod
+    def smoothing_length(options, dim, dp):
+        """h = coef_h sqrt(dim) dp [m] (DualSPHysics's convention)."""
+        return options.coef_h * math.sqrt(dim) * float(dp)
+
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
                  velocities=None, motions=None, motion_of=None, periodic=(), planes=(), symmetry_y=None,
@@ -134,7 +139,7 @@ class Model:
         self.rho0 = float(rho0)
         self.gravity = np.asarray(gravity, dtype=np.float64)
         g = float(np.linalg.norm(self.gravity))
-        self.h = options.coef_h * math.sqrt(dim) * self.dp
+        self.h = self.smoothing_length(options, dim, dp)
         if u_max is None:
             if fluid_height is None or g == 0:
                 raise InputError("give u_max (maximum expected speed, m/s) or a fluid_height with gravity "

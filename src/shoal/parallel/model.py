@@ -83,7 +83,6 @@ finds a bad particle.
 
 from __future__ import annotations
 
-import math
 import time as _time
 
 import numpy as np
@@ -195,7 +194,7 @@ class DistributedModel(Model):
         self.mpi_rank = self.comm.Get_rank()
         self.mpi_size = self.comm.Get_size()
         options = kw.get("options") or SPHOptions()
-        h = options.coef_h * math.sqrt(kw["dim"]) * float(kw["dp"])  # as Model.h
+        h = self.smoothing_length(options, kw["dim"], kw["dp"])
         wide = options.turbulence == "sps" or bool(options.no_slip)  # SchemeSpec's sps / no_slip
         self.halo_width = (4.0 if wide else 2.0) * h + 0.25 * h
         # with a ring of 2 ranks the neighbour on both sides is the same rank: a slab narrower than
@@ -356,9 +355,11 @@ class DistributedModel(Model):
         self.backend.copy_into(self._ghost_rows_b, ghosts, len(ghosts))
 
     def _per_particle_arrays(self):
+        """The model's arrays with a row per particle (state, rates, work arrays, the integrator's;
+        xsph, tau and vwall when in use), not the neighbour grid's."""
         cap = self._capacity
         arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.vmax, self.pr2,
-                  *self.scratch.values(), *self.extra_arrays, self.grid.cell, self.grid.perm, self.grid._unsorted]
+                  *self.scratch.values(), *self.extra_arrays]
         arrays += [a for a in (self.xsph, self.tau, self.vwall) if a.shape[0] == cap and cap > 1]
         return arrays
 
@@ -373,7 +374,7 @@ class DistributedModel(Model):
             return
         if self.backend.host_memory:
             seen = set()
-            for a in self._per_particle_arrays():
+            for a in self._per_particle_arrays() + [self.grid.cell, self.grid.perm, self.grid._unsorted]:
                 if id(a) in seen:
                     continue
                 seen.add(id(a))
@@ -388,11 +389,9 @@ class DistributedModel(Model):
         device), the references re-pointed: this model's attributes, ``scratch``,
         ``extra_arrays``, the attributes of ``array_owners`` (the integrator), the host copies
         (resized with them) and the neighbour grid's per-particle work arrays."""
-        b, cap = self.backend, self._capacity
+        b = self.backend
         keep = min(self.n, capacity)
-        old = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.vmax, self.pr2,
-               *self.scratch.values(), *self.extra_arrays]
-        old += [a for a in (self.xsph, self.tau, self.vwall) if a.shape[0] == cap and cap > 1]
+        old = self._per_particle_arrays()
         new = {}
         for a in old:
             if id(a) not in new:
