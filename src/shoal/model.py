@@ -230,6 +230,10 @@ class Model:
         self.n_escaped = 0
         self.on_escape = None  # on_escape(model, start, stop): rows start..stop just left the domain
         self._init_motions(positions[:, cols], kinds, motions, motion_of)
+        if self.spec.wall_pressure and self.motion_of is None:
+            # the Adami wall-pressure kernel reads a motion table; without moving walls, one unused row
+            self._macc = b.asarray(np.zeros((1, dim), F))
+            self._wall_motion_of = b.asarray(np.zeros(1, np.int32))
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
 
     def _init_motions(self, positions, kinds, motions, motion_of):
@@ -250,6 +254,9 @@ class Model:
         self._mvel_host = np.zeros((len(self.motions), self.dim), F)
         self._disp = b.asarray(self._disp_host.copy())
         self._mvel = b.asarray(self._mvel_host.copy())
+        self._macc_host = np.zeros((len(self.motions), self.dim), F)
+        self._macc = b.asarray(self._macc_host.copy())
+        self._wall_motion_of = self.motion_of
         self.move_bodies(0.0)
 
     def sample(self, points, shepard=True):
@@ -334,9 +341,13 @@ class Model:
             d, v = m.kinematics(t)
             self._disp_host[k] = np.asarray(d, float)[cols]
             self._mvel_host[k] = np.asarray(v, float)[cols]
+            if self.spec.wall_pressure:
+                self._macc_host[k] = np.asarray(m.acceleration(t), float)[cols]
         b = self.backend
         self._disp = b.asarray(self._disp_host.copy()) if b.name != "cpu" else self._disp_host
         self._mvel = b.asarray(self._mvel_host.copy()) if b.name != "cpu" else self._mvel_host
+        if self.spec.wall_pressure:
+            self._macc = b.asarray(self._macc_host.copy()) if b.name != "cpu" else self._macc_host
         b.timed(b.move_bodies, self.n, (self.pos, self.vel, self.kind, self.idp, self.pos_init, self.motion_of,
                                         self._disp, self._mvel))
 
@@ -414,6 +425,9 @@ class Model:
     def compute_rates(self):
         """Evaluate d rho/dt, dv/dt (and XSPH) of the active particles."""
         b, n, P = self.backend, self.n, self.P
+        if self.spec.wall_pressure:
+            b.timed(b.wall_pressure, n, (self.pos, self.rho, self.kind, self.idp, self._wall_motion_of, self._macc,
+                                         self.grid.cell, self.grid.cell_start, self.grid.gdims_arr, P))
         b.timed(b.pr2, n, (self.rho, self.pr2, P))
         if self.spec.sps:
             b.timed(b.sps, n, (self.pos, self.vel, self.rho, self.kind, self.grid.cell, self.grid.cell_start,

@@ -63,6 +63,13 @@ class Motion(Spec):
         """(displacement [m], velocity [m/s]) at time t [s], 3-vectors."""
         raise NotImplementedError
 
+    def acceleration(self, t, eps=1e-5):
+        """Acceleration [m/s^2] at time t [s], a 3-vector: the central difference
+        (v(t + eps) - v(t - eps)) / (2 eps) of the velocity (the Adami wall
+        pressure of a moving wall needs it, `shoal.physics.wall_pressure`)."""
+        return (np.asarray(self.kinematics(t + eps)[1], float)
+                - np.asarray(self.kinematics(max(t - eps, 0.0))[1], float)) / (t + eps - max(t - eps, 0.0))
+
 
 class ConstantVelocity(Motion):
     """Rigid motion at constant `velocity` [m/s] from time `start` [s]:
@@ -75,6 +82,10 @@ class ConstantVelocity(Motion):
     def kinematics(self, t):
         v = np.asarray(self.velocity, float)
         return v * max(t - self.start, 0.0), (v if t >= self.start else np.zeros(3))
+
+    def acceleration(self, t, eps=1e-5):
+        """Zero: the start is an impulsive step (no finite acceleration to extrapolate a pressure with)."""
+        return np.zeros(3)
 
 
 class PistonWavemaker(Motion):
@@ -248,6 +259,13 @@ class TimeSeriesMotion(Motion):
         if t >= t1:
             return d1.copy(), np.zeros(3)
         return np.asarray(sp(t), float), np.asarray(sp(t, 1), float)
+
+    def acceleration(self, t, eps=1e-5):
+        """The spline's second derivative (zero before the first and after the last time)."""
+        sp, t0, t1, _, _ = self._spline or self._load()
+        if t <= t0 or t >= t1:
+            return np.zeros(3)
+        return np.asarray(sp(t, 2), float)
 
 
 AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion],

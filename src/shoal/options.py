@@ -21,6 +21,7 @@ DENSITY_DIFFUSIONS = ("none", "molteni", "fourtakas")
 INTEGRATORS = ("verlet", "symplectic", "predictor_corrector")
 TURBULENCE = ("none", "sps")
 PRECISIONS = ("float32", "float64")
+WALL_PRESSURES = ("dynamic", "adami")
 
 
 def _choice(name, value, allowed):
@@ -76,6 +77,15 @@ class SPHOptions:
         surface rather than at the first boundary layer (`shoal.physics.no_slip`).
         Off by default (DualSPHysics's DBC: boundary particles carry the wall
         velocity).
+    wall_pressure : {"dynamic", "adami"}
+        How dynamic boundary particles get their density (and pressure):
+        "dynamic" integrates their own continuity equation (DBC, Crespo et
+        al. 2007; DualSPHysics's default); "adami" extrapolates the
+        surrounding fluid's pressure to each wall particle with the
+        hydrostatic and wall-acceleration terms at every rate evaluation
+        (Adami, Hu & Adams 2012; PySPH's ``SolidWallPressureBC``), which
+        stops the drag that DBC walls put on a flow sliding along them
+        (`shoal.physics.wall_pressure`).
     density_diffusion : {"none", "molteni", "fourtakas"}
         Density diffusion term: Molteni & Colagrossi (2009) or Fourtakas et
         al. (2019) (with the hydrostatic correction). Default "fourtakas".
@@ -135,6 +145,7 @@ class SPHOptions:
     nu: float = 1.0e-6
     visco_bound_factor: float = 1.0
     no_slip: bool = False
+    wall_pressure: str = "dynamic"
     density_diffusion: str = "fourtakas"
     delta: float = 0.1
     xsph: float = 0.0
@@ -158,6 +169,7 @@ class SPHOptions:
         _choice("integrator", self.integrator, INTEGRATORS)
         _choice("precision", self.precision, PRECISIONS)
         _choice("turbulence", self.turbulence, TURBULENCE)
+        _choice("wall_pressure", self.wall_pressure, WALL_PRESSURES)
         _positive("sps_cs", self.sps_cs, allow_zero=True)
         _positive("sps_ci", self.sps_ci, allow_zero=True)
         _positive("coef_h", self.coef_h)

@@ -195,7 +195,9 @@ class DistributedModel(Model):
         self.mpi_size = self.comm.Get_size()
         options = kw.get("options") or SPHOptions()
         h = self.smoothing_length(options, kw["dim"], kw["dp"])
-        wide = options.turbulence == "sps" or bool(options.no_slip)  # SchemeSpec's sps / no_slip
+        # a first pass over the neighbours (SPS stress, no-slip wall velocity, Adami wall pressure) before
+        # the rates: the ghosts that pass reads need their own neighbours, two supports deep
+        wide = options.turbulence == "sps" or bool(options.no_slip) or options.wall_pressure == "adami"
         self.halo_width = (4.0 if wide else 2.0) * h + 0.25 * h
         # with a ring of 2 ranks the neighbour on both sides is the same rank: a slab narrower than
         # two halo widths would send it a particle twice

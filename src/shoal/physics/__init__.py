@@ -20,6 +20,7 @@ from .spec import FIXED, FLUID, MOVING, Params, SchemeSpec, make_params, make_un
 from .planes import make_plane_force
 from .turbulence import make_sps
 from .no_slip import make_wall_velocity
+from .wall_pressure import make_wall_pressure
 from .viscosity import make_viscosity
 
 __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIXED", "MOVING"]
@@ -87,6 +88,7 @@ def build_physics(jit, spec, target="cpu"):
     shepard, mls = make_filters(j, spec, (w, grad_factor), make_gather, unpack)
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_velocity = make_wall_velocity(j, spec, (w, grad_factor), make_gather, unpack)
+    particle_wall_pressure = make_wall_pressure(j, spec, (w, grad_factor), pressure, make_gather, unpack)
     from ..probes.interpolate import make_probe
 
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
@@ -95,6 +97,7 @@ def build_physics(jit, spec, target="cpu"):
     wet_walls, free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
-                           particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity, probe=probe, free_surface=free_surface, wet_walls=wet_walls,
+                           particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
+                           particle_wall_pressure=particle_wall_pressure, probe=probe, free_surface=free_surface, wet_walls=wet_walls,
                            named_jit=j,
                            unpack=unpack)

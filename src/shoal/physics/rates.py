@@ -58,6 +58,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     use_mk = spec.repulsive
     use_planes = spec.planes
     no_slip = spec.no_slip
+    wall_pressure = spec.wall_pressure
     two, halfq = F(2.0), F(0.5)
     t_pos, t_neg = F(0.01), F(-0.2)
 
@@ -221,7 +222,9 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 for d in range(dim):
                     xsph[i, d] = zero
         else:
-            dr = gather_bound(i, (vix, viy, viz), zero, pos, cell, cell_start, gdims, data, P)
+            # with the Adami wall pressure a wall's density is extrapolated, not integrated
+            dr = zero if wall_pressure else gather_bound(i, (vix, viy, viz), zero, pos, cell, cell_start, gdims,
+                                                         data, P)
             for d in range(dim):
                 ace[i, d] = zero
             drho[i] = dr

@@ -48,6 +48,8 @@ class SchemeSpec:
     """A symmetry plane y = const (3D): 0 none, 1 fluid on the low side, 2 on the high side."""
     no_slip: bool = False
     """Boundary particles enter the viscous term with the no-slip velocity of Adami et al. (2012)."""
+    wall_pressure: bool = False
+    """Boundary particles take the pressure extrapolated from the fluid (Adami et al. 2012)."""
 
     @classmethod
     def from_options(cls, options, dim, periodic=(), repulsive=False, planes=False, symmetry=0):
@@ -67,6 +69,7 @@ class SchemeSpec:
             planes=bool(planes),
             symmetry=int(symmetry),
             no_slip=bool(options.no_slip),
+            wall_pressure=options.wall_pressure == "adami",
         )
 
     @property
@@ -74,7 +77,8 @@ class SchemeSpec:
         """Short deterministic string naming the specialisation."""
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
-                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}-n{int(self.no_slip)}")
+                f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}-n{int(self.no_slip)}"
+                + ("-a" if self.wall_pressure else ""))
 
     @property
     def float_type(self):
