@@ -192,6 +192,34 @@ def test_filters_keep_boundary_density_and_use_it(fluid_block):
                                rtol=1e-12)
 
 
+def test_filters_with_adami_walls_use_the_fluid_only(fluid_block):
+    """With the Adami wall pressure the walls' densities are the fluid's extrapolated: the filters leave
+    them out, so whatever the walls hold, MLS keeps a linear fluid field exact next to the wall too (its
+    one-sided fit stays first order) and Shepard returns the fluid's constant."""
+    dim = 2
+
+    def kinds(pos):
+        return np.where(pos[:, 2] < 0.03, FIXED, FLUID)
+
+    model = fluid_block(dim, (24, 20), SPHOptions(precision="float64", wall_pressure="adami"), dp=0.01,
+                        kinds=kinds)
+    n = model.n
+    exact = _linear_field(model, np.array([0.4, 1.0]))
+    wall = model.kind[:n] != FLUID
+    rho = exact.copy()
+    rho[wall] = 1100.0  # nothing like the fluid's: would show in any sum that used them
+    model.rho[:n] = rho
+    model.apply_filter("mls")
+    np.testing.assert_array_equal(model.rho[:n][wall], rho[wall])
+    pos = model.pos[:n]
+    near = ~wall & (pos[:, 1] < 0.03 + 2 * model.h) & (pos[:, 0] > 2 * model.h) & (pos[:, 0] < 0.24 - 2 * model.h)
+    assert np.count_nonzero(near) >= 8
+    np.testing.assert_allclose(model.rho[:n][near], exact[near], rtol=1e-12)
+    model.rho[:n] = np.where(wall, 1100.0, 1000.0)
+    model.apply_filter("shepard")
+    np.testing.assert_allclose(model.rho[:n][~wall], 1000.0, rtol=1e-12)
+
+
 def test_mls_via_simulation_schedule_resets_density_history(fluid_block):
     """`mls_every` applies the filter after the scheduled steps (smoke check
     of the wiring: densities stay finite and the Verlet history is reset)."""

@@ -11,7 +11,11 @@
   det A / prod A_kk < 1e-3) the Shepard filter is used instead.
 Both sum over fluid and dynamic-boundary neighbours (the boundary
 particles carry a density), and reproduce a linear (MLS) or constant
-(Shepard) density field exactly.
+(Shepard) density field exactly. With the Adami wall pressure
+(`wall_pressure`) they sum over fluid neighbours only: the walls' densities
+are then the fluid's own extrapolated, not data of their own, and with them
+in the sum a falling jet went through the bed of the breaking tidal bore
+(36 of 6,210 particles within 1 s at dp = 10 mm; none with fluid only).
 """
 
 from .spec import FLUID, REPULSIVE
@@ -24,12 +28,13 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     zero, one = F(0.0), F(1.0)
     w, _ = kernels
     tol = F(1e-3)
+    fluid_only = spec.wall_pressure
 
     @jit
     def shepard_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         rho, kind = data
         num, den = acc
-        if kind[j] >= REPULSIVE:
+        if kind[j] >= REPULSIVE or (fluid_only and kind[j] != FLUID):
             return acc
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         wij = mj * w(r2 ** F(0.5) * P.inv_h, P)
@@ -52,7 +57,7 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     def moment_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         rho, kind = data
         a00, a01, a02, a03, a11, a12, a13, a22, a23, a33 = acc
-        if kind[j] >= REPULSIVE:
+        if kind[j] >= REPULSIVE or (fluid_only and kind[j] != FLUID):
             return acc
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         v = mj * w(r2 ** F(0.5) * P.inv_h, P) / rho[j]
@@ -68,7 +73,7 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     def mls_rho_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         rho, kind = data
         b0, b1, b2, b3 = own
-        if kind[j] >= REPULSIVE:
+        if kind[j] >= REPULSIVE or (fluid_only and kind[j] != FLUID):
             return acc
         mj = P.mass_f if kind[j] == FLUID else P.mass_b
         e1 = dx
