@@ -9,6 +9,9 @@ and prints
 - the least-squares celerity over all gauges and over the gauges from `--settled` metres on (the front
   forms over the first half metre: at d0/20 it runs 24 % fast there while it breaks);
 - the level behind the front at each gauge (`shoal.analysis.level_behind`, to the end of the record);
+- the clear-water depth behind the front at each gauge: the water's volume within +-`--window` m of it
+  per metre (`shoal.analysis.volume_depth`), averaged over the snapshots from 0.15 s after the arrival
+  (a gauge in the broken water behind a breaking front reads 1-4 mm below it at d0/20);
 - the kinematic breaking index B = max u_crest / c every `--snap` s (`shoal.analysis.crest_speed_ratio`;
   B >= 1: the crest's water overtakes the front, it breaks).
 
@@ -35,7 +38,7 @@ import numpy as np
 
 def main(argv=None):
     import shoal
-    from shoal.analysis import arrival_time, bore_from_inflow, celerity, crest_speed_ratio, level_behind
+    from shoal.analysis import arrival_time, bore_from_inflow, celerity, crest_speed_ratio, level_behind, volume_depth
     from shoal.cases import tidal_bore
     from shoal.cases.tidal_bore import PAPER_OPTIONS
     from shoal.errors import InputError
@@ -52,9 +55,12 @@ def main(argv=None):
                    help='other SPHOptions as JSON over the paper scheme, e.g. \'{"mls_every": 0}\'')
     p.add_argument("--settled", type=float, default=1.0, help="celerity from gauges at x >= this [m]")
     p.add_argument("--t-end", type=float, default=None, help="end time [s] (default 0.95 L / (U + c))")
-    p.add_argument("--snap", type=float, default=0.1, help="snapshot interval for the breaking index [s]")
+    p.add_argument("--snap", type=float, default=0.1, help="snapshot interval for the breaking index and the "
+                   "volume depth [s]")
+    p.add_argument("--window", type=float, default=0.05, help="half-length of the volume-depth window [m]")
     p.add_argument("--json", type=Path, default=None, help="also write the measures here")
     p.add_argument("--keep", type=Path, default=None, help="run directory to keep (default: a temporary one)")
+    p.add_argument("--reuse", action="store_true", help="measure the finished run in --keep again, without running")
     a = p.parse_args(argv)
     d0 = 0.1
     c_ref, d1, fr = bore_from_inflow(a.U, d0)
@@ -70,7 +76,12 @@ def main(argv=None):
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         run_dir = a.keep or Path(tmp) / "run"
-        res = shoal.run_case(case, run_dir, plot=False, handle_signals=False)
+        if a.reuse:
+            if a.keep is None or not (a.keep / "run.log").is_file():
+                raise InputError("--reuse needs --keep DIR holding a finished run")
+            res = None
+        else:
+            res = shoal.run_case(case, run_dir, plot=False, handle_signals=False)
         thr = d0 + 0.5 * (d1 - d0)
         arrivals, levels = [], []
         for x in gauges:
@@ -83,10 +94,15 @@ def main(argv=None):
             except InputError:
                 levels.append(float("nan"))
         index = []
-        for f in sorted(run_dir.glob("tidal-bore_*.vtu")):
+        vols = [[] for _ in gauges]
+        mass = case.fluid.rho0 * a.dp**2
+        for k, f in enumerate(sorted(run_dir.glob("tidal-bore_*.vtu"))):
             pts, data = read_vtu(f)
             fluid = data["kind"] == FLUID
             index.append(crest_speed_ratio(pts[fluid], data["velocity"][fluid], d0, d1, c_ref))
+            for g, (x, ta) in enumerate(zip(gauges, arrivals)):
+                if np.isfinite(ta) and k * a.snap >= ta + 0.15 - 1e-9:
+                    vols[g].append(volume_depth(pts[fluid], data["density"][fluid], mass, x, a.window))
     wall = time.perf_counter() - t0
     xs, ts = np.array(gauges), np.array(arrivals)
     spans = [dict(x0=float(xs[i]), x1=float(xs[i + 1]), speed=float((xs[i + 1] - xs[i]) / (ts[i + 1] - ts[i])),
@@ -95,14 +111,18 @@ def main(argv=None):
     c_all = celerity(xs, ts)
     c_set = celerity(xs[settled], ts[settled]) if settled.sum() >= 2 else float("nan")
     lev = {f"{x:g}": (float(v), float(v / d1 - 1)) for x, v in zip(xs, levels)}
+    # at least three snapshots (0.2 s of the water behind the front), as level_behind wants 0.05 s of record
+    vdep = {f"{x:g}": (float(np.mean(v)), float(np.mean(v) / d1 - 1), len(v)) if len(v) >= 3
+            else (float("nan"), float("nan"), len(v)) for x, v in zip(xs, vols)}
     snap_t = [round(a.snap * k, 6) for k in range(len(index))]
     first_break = next((t for t, b in zip(snap_t, index) if b >= 1.0), None)
-    out = dict(dp=a.dp, U=a.U, length=a.length, alpha=a.alpha, options=a.options, t_end=t_end, particles=int(res.particles),
-               escaped=int(res.escaped), steps=int(res.steps), wall_s=round(wall),
+    out = dict(dp=a.dp, U=a.U, length=a.length, alpha=a.alpha, options=a.options, t_end=t_end, particles=int(res.particles) if res else None,
+               escaped=int(res.escaped) if res else None, steps=int(res.steps) if res else None,
+               wall_s=round(wall) if res else None,
                belanger=dict(c=c_ref, d1=d1, froude=fr), gauges=list(map(float, xs)),
                arrivals=list(map(float, ts)), spans=spans, celerity_all=c_all, celerity_all_error=c_all / c_ref - 1,
                celerity_settled=c_set, celerity_settled_error=c_set / c_ref - 1, settled_from=a.settled,
-               level_behind=lev, breaking_index=dict(times=snap_t, B=[float(b) for b in index],
+               level_behind=lev, depth_behind=vdep, depth_window=a.window, breaking_index=dict(times=snap_t, B=[float(b) for b in index],
                                                      max=float(max(index)) if index else None,
                                                      first_above_1=first_break))
     text = json.dumps(out, indent=1)

@@ -12,10 +12,9 @@ Checked here against what the formula must give:
   invariance; a laminar boundary layer would be sqrt(nu t) = 1.4 mm thick
   after 2 s), where the dynamic boundary condition (DBC, each wall particle
   integrating its own continuity equation) drags it: measured with
-  `benchmarks/bed_drag.py`, 0.7 m/s over a bed at dp = d0/10 loses 5.4 % of
-  its depth-mean speed in 2 s on DBC walls and 1.1 % on Adami walls; at
-  d0/20 the near-bed speed on DBC walls falls to 0.43 m/s while Adami walls
-  keep 0.695 m/s.
+  `benchmarks/bed_drag.py`, 0.7 m/s over a bed at dp = d0/10 loses 5.5 % of
+  its depth-mean speed in 2 s on DBC walls, 0.7 % on Adami walls and none
+  over a wall plane (see the README for d0/20).
 """
 
 import numpy as np
@@ -147,7 +146,7 @@ def _stream(dp, wall_pressure, t_end, U=0.7, d0=0.1, L=0.4):
 
 
 def test_uniform_stream_over_adami_bed_keeps_its_speed():
-    """0.7 m/s over a free-slip bed for 2 s at dp = d0/10 (the DBC bed loses 5.4 % of it, see the module
+    """0.7 m/s over a free-slip bed for 2 s at dp = d0/10 (the DBC bed loses 5.5 % of it, see the module
     docstring): within 2 % of U, depth-mean and near the bed, no particle below the bed surface."""
     rec, model = _stream(0.01, "adami", 2.0)
     for t, mean, bed, zmin in rec:
