@@ -232,8 +232,9 @@ class Model:
         self._init_motions(positions[:, cols], kinds, motions, motion_of)
         if self.spec.wall_pressure and self.motion_of is None:
             # the Adami wall-pressure kernel reads a motion table; without moving walls, one unused row
+            # (not a per-particle array: a checkpoint saves only arrays of n_total rows, each once)
             self._macc = b.asarray(np.zeros((1, dim), F))
-            self._wall_motion_of = b.asarray(np.zeros(1, np.int32))
+            self._no_motion_of = b.asarray(np.zeros(1, np.int32))
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
 
     def _init_motions(self, positions, kinds, motions, motion_of):
@@ -256,7 +257,6 @@ class Model:
         self._mvel = b.asarray(self._mvel_host.copy())
         self._macc_host = np.zeros((len(self.motions), self.dim), F)
         self._macc = b.asarray(self._macc_host.copy())
-        self._wall_motion_of = self.motion_of
         self.move_bodies(0.0)
 
     def sample(self, points, shepard=True):
@@ -426,7 +426,8 @@ class Model:
         """Evaluate d rho/dt, dv/dt (and XSPH) of the active particles."""
         b, n, P = self.backend, self.n, self.P
         if self.spec.wall_pressure:
-            b.timed(b.wall_pressure, n, (self.pos, self.rho, self.kind, self.idp, self._wall_motion_of, self._macc,
+            motion_of = self.motion_of if self.motion_of is not None else self._no_motion_of
+            b.timed(b.wall_pressure, n, (self.pos, self.rho, self.kind, self.idp, motion_of, self._macc,
                                          self.grid.cell, self.grid.cell_start, self.grid.gdims_arr, P))
         b.timed(b.pr2, n, (self.rho, self.pr2, P))
         if self.spec.sps:
