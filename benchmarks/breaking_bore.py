@@ -13,7 +13,13 @@ and prints
   per metre (`shoal.analysis.volume_depth`), averaged over the snapshots from 0.15 s after the arrival
   (a gauge in the broken water behind a breaking front reads 1-4 mm below it at d0/20);
 - the kinematic breaking index B = max u_crest / c every `--snap` s (`shoal.analysis.crest_speed_ratio`;
-  B >= 1: the crest's water overtakes the front, it breaks).
+  B >= 1: the crest's water overtakes the front, it breaks);
+- the front's position in every snapshot: where the clear-water depth profile (bins of `--bin` m) falls
+  through the half-way level (`shoal.analysis.front_position`), and the celerity fitted to that track
+  from `--settled` m to the last gauge (and from the first gauge): many more points than the gauges'
+  arrivals, which a breaking front, pulsating with its roller, passes at different phases;
+- the inflow's speed in the lowest 2 cm between the front and the inflow wall every `--snap` s (a bed
+  that drags the stream slows it below U; with DBC walls at d0/20 it fell to 0.28 m/s by t = 2.5 s).
 
 The moving inflow wall meets the bore at t = L / (U + c) (3.18 s in a 5 m flume, at x = 2.78 m), so the
 run ends at `--t-end` (default 0.95 L / (U + c)) and gauges beyond the meeting point are dropped.
@@ -36,13 +42,23 @@ from pathlib import Path
 import numpy as np
 
 
+def near_bed_inflow(pos, vel, t, c, U, length, depth=0.02, gap=0.3):
+    """Mean speed towards the gate [m/s] of the fluid within `depth` of the bed, between `gap` m ahead of
+    the bore's nominal front (x = c t) and `gap` m behind the inflow wall (x = L - U t); nan when that
+    stretch is empty. Frictionless water keeps U there: a lower speed is the bed dragging the inflow."""
+    sel = (pos[:, -1] < depth) & (pos[:, 0] > c * t + gap) & (pos[:, 0] < length - U * t - gap)
+    return float(-np.mean(vel[sel, 0])) if sel.any() else float("nan")
+
+
 def main(argv=None):
     import shoal
-    from shoal.analysis import arrival_time, bore_from_inflow, celerity, crest_speed_ratio, level_behind, volume_depth
+    from shoal.analysis import (arrival_time, bore_from_inflow, celerity, crest_speed_ratio, front_position,
+                                level_behind, volume_depth)
     from shoal.cases import tidal_bore
     from shoal.cases.tidal_bore import PAPER_OPTIONS
     from shoal.errors import InputError
     from shoal.options import SPHOptions
+    from shoal.output.pvd import PVDWriter
     from shoal.output.vtu import read_vtu
     from shoal.physics.spec import FLUID
 
@@ -58,6 +74,8 @@ def main(argv=None):
     p.add_argument("--snap", type=float, default=0.1, help="snapshot interval for the breaking index and the "
                    "volume depth [s]")
     p.add_argument("--window", type=float, default=0.05, help="half-length of the volume-depth window [m]")
+    p.add_argument("--bin", type=float, default=0.05, help="bin length of the depth profile that tracks the "
+                   "front [m]")
     p.add_argument("--json", type=Path, default=None, help="also write the measures here")
     p.add_argument("--keep", type=Path, default=None, help="run directory to keep (default: a temporary one)")
     p.add_argument("--reuse", action="store_true", help="measure the finished run in --keep again, without running")
@@ -93,15 +111,19 @@ def main(argv=None):
                 levels.append(level_behind(t, z, ta) if np.isfinite(ta) else float("nan"))
             except InputError:
                 levels.append(float("nan"))
-        index = []
+        index, inflow, fronts, snap_t, x_ends = [], [], [], [], []
         vols = [[] for _ in gauges]
         mass = case.fluid.rho0 * a.dp**2
-        for k, f in enumerate(sorted(run_dir.glob("tidal-bore_*.vtu"))):
-            pts, data = read_vtu(f)
+        for ts_k, name in PVDWriter._load(run_dir / "tidal-bore.pvd"):  # (time, file) of each snapshot
+            pts, data = read_vtu(run_dir / name)
+            snap_t.append(ts_k)
+            x_ends.append(a.length - a.U * ts_k - 0.3)  # the depth profile stops 0.3 m before the inflow wall
             fluid = data["kind"] == FLUID
             index.append(crest_speed_ratio(pts[fluid], data["velocity"][fluid], d0, d1, c_ref))
+            inflow.append(near_bed_inflow(pts[fluid], data["velocity"][fluid], ts_k, c_ref, a.U, a.length))
+            fronts.append(front_position(pts[fluid], data["density"][fluid], mass, thr, x_ends[-1], a.bin))
             for g, (x, ta) in enumerate(zip(gauges, arrivals)):
-                if np.isfinite(ta) and k * a.snap >= ta + 0.15 - 1e-9:
+                if np.isfinite(ta) and ts_k >= ta + 0.15 - 1e-9:
                     vols[g].append(volume_depth(pts[fluid], data["density"][fluid], mass, x, a.window))
     wall = time.perf_counter() - t0
     xs, ts = np.array(gauges), np.array(arrivals)
@@ -110,11 +132,17 @@ def main(argv=None):
     settled = xs >= a.settled - 1e-9
     c_all = celerity(xs, ts)
     c_set = celerity(xs[settled], ts[settled]) if settled.sum() >= 2 else float("nan")
+    tf, xf = np.array(snap_t), np.array(fronts)
+    # a front within two bins of the profile's end is the end, not the front
+    track = np.isfinite(xf) & (xf >= a.settled - 1e-9) & (xf <= xs[-1] + 0.25) & (xf < np.array(x_ends) - 2 * a.bin)
+    c_track = celerity(xf[track], tf[track]) if track.sum() >= 2 else float("nan")
+    track_all = np.isfinite(xf) & (xf >= xs[0] - 1e-9) & (xf <= xs[-1] + 0.25) & (xf < np.array(x_ends) - 2 * a.bin)
+    c_track_all = celerity(xf[track_all], tf[track_all]) if track_all.sum() >= 2 else float("nan")
     lev = {f"{x:g}": (float(v), float(v / d1 - 1)) for x, v in zip(xs, levels)}
     # at least three snapshots (0.2 s of the water behind the front), as level_behind wants 0.05 s of record
     vdep = {f"{x:g}": (float(np.mean(v)), float(np.mean(v) / d1 - 1), len(v)) if len(v) >= 3
             else (float("nan"), float("nan"), len(v)) for x, v in zip(xs, vols)}
-    snap_t = [round(a.snap * k, 6) for k in range(len(index))]
+    snap_t = [round(t, 4) for t in snap_t]
     first_break = next((t for t, b in zip(snap_t, index) if b >= 1.0), None)
     out = dict(dp=a.dp, U=a.U, length=a.length, alpha=a.alpha, options=a.options, t_end=t_end, particles=int(res.particles) if res else None,
                escaped=int(res.escaped) if res else None, steps=int(res.steps) if res else None,
@@ -124,7 +152,12 @@ def main(argv=None):
                celerity_settled=c_set, celerity_settled_error=c_set / c_ref - 1, settled_from=a.settled,
                level_behind=lev, depth_behind=vdep, depth_window=a.window, breaking_index=dict(times=snap_t, B=[float(b) for b in index],
                                                      max=float(max(index)) if index else None,
-                                                     first_above_1=first_break))
+                                                     first_above_1=first_break),
+               front_track=dict(times=snap_t, x=[round(float(v), 4) for v in xf], bin=a.bin,
+                                celerity_settled=c_track, celerity_settled_error=c_track / c_ref - 1,
+                                snapshots_settled=int(track.sum()), celerity_all=c_track_all,
+                                celerity_all_error=c_track_all / c_ref - 1),
+               inflow_near_bed=dict(times=snap_t, speed=[round(float(u), 4) for u in inflow]))
     text = json.dumps(out, indent=1)
     print(text)
     if a.json:

@@ -110,6 +110,62 @@ def volume_depth(positions, densities, mass, x, half_width, width=None):
     return float(np.sum(mass / r[sel]) / (2.0 * w * (1.0 if width is None else float(width))))
 
 
+def front_position(positions, densities, mass, level, x_max, bin_width, width=None):
+    """Position [m] of a bore's front travelling towards +x: where the
+    clear-water depth (`volume_depth` over bins of `bin_width` along x, from
+    x = 0 to `x_max`) last falls through `level`, linearly interpolated
+    between bin centres.
+
+    The depth profile d(x_k) = sum_{i in bin k} (m / rho_i) / (b B) needs no
+    free surface, so the front of a breaking bore, whose roller is a
+    disordered spray of particles that a wave gauge reads low, is found from
+    its water's volume. With `level` = (d0 + d1) / 2 the front's positions
+    over time give its celerity (`celerity(fronts, times)`), from every
+    snapshot rather than from a few gauges, which a pulsating breaking front
+    passes at different phases of its roller. For a sharp step inside one
+    bin the interpolation is within 0.09 `bin_width` of the step.
+
+    Parameters
+    ----------
+    positions : (N, 3) array
+        Fluid particle positions [m] (x along the flume, z up).
+    densities : (N,) array
+        Their densities [kg/m^3].
+    mass : float
+        Particle mass [kg] (2D: per unit width).
+    level : float
+        Depth [m] that marks the front, between d0 and d1.
+    x_max : float
+        End of the profile [m] (keep out an inflow wall's neighbourhood).
+    bin_width : float
+        Bin length along x [m] (several dp: a bin holds whole columns).
+    width : float, optional
+        Flume width [m] in 3D.
+
+    Returns
+    -------
+    float
+        The front's x [m]; NaN when no bin reaches `level`.
+    """
+    p = np.asarray(positions, float)
+    r = np.asarray(densities, float)
+    b = float(bin_width)
+    if not b > 0 or not float(x_max) > b:
+        raise InputError(f"bin_width = {bin_width!r} must be > 0 and below x_max = {x_max!r}")
+    nb = int(float(x_max) // b)
+    k = np.floor(p[:, 0] / b).astype(np.int64)
+    ok = (k >= 0) & (k < nb)
+    depth = np.bincount(k[ok], weights=mass / r[ok], minlength=nb) / (b * (1.0 if width is None else float(width)))
+    wet = np.flatnonzero(depth >= float(level))
+    if len(wet) == 0:
+        return float("nan")
+    j = int(wet[-1])
+    xc = (j + 0.5) * b
+    if j == nb - 1:
+        return float(xc)
+    return float(xc + b * (depth[j] - level) / (depth[j] - depth[j + 1]))
+
+
 def undulations(times, levels, t_arrival, d1, window=1.0):
     """Secondary waves behind a bore front, from a gauge record.
 
