@@ -124,6 +124,13 @@ def _cli(argv):
     (["run", "--integrator", "rk4"], ["rk4", "verlet"]),
     (["run", "--kernel", "gaussian"], ["gaussian", "wendland"]),
     (["run", "--bogus"], ["--bogus"]),
+    (["run", "--option", "alpha"], ["--option", "'alpha'", "KEY=VALUE"]),
+    (["run", "--option", "bogus=1"], ["--option", "'bogus'", "allowed keys", "wall_pressure"]),
+    (["run", "--option", "alpha=lots"], ["--option", "alpha", "'lots'", "number"]),
+    (["run", "--option", "xsph=true"], ["xsph", "true", "number"]),
+    (["run", "--option", "wall_pressure=dbc"], ["wall_pressure", "'dbc'", "'dynamic'", "'adami'"]),
+    (["run", "tidal-bore", "--option", "shepard_every=20"], ["shepard_every and mls_every"]),
+    (["run", "--resume", "runs/x", "--option", "alpha=0.02"], ["--option", "cannot be given"]),
     (["--bogus"], ["--bogus"]),
     (["frobnicate"], ["frobnicate"]),
 ])
@@ -171,3 +178,20 @@ def test_module_entry_point_reports_bad_case_without_traceback(tmp_path):
     assert "Traceback" not in proc.stderr
     assert proc.stdout == ""
     assert not (tmp_path / "o").exists()  # nothing was written
+
+
+def test_cli_option_sets_any_sph_option(tmp_path, capsys):
+    """--option KEY=VALUE (repeatable) changes an SPH option of a built-in case or a case file, as the case
+    file's [options] table does: the run's resolved case holds the new values, the rest unchanged."""
+    import json
+
+    out = tmp_path / "run"
+    argv = ["run", "tidal-bore", "--param", "dim=2", "--dp", "0.02", "--end-time", "0.002", "--no-progress",
+            "--no-plot", "--out", str(out), "--option", "alpha=0.02", "--option", "wall_pressure=adami"]
+    assert _cli(argv) == 0
+    opts = json.loads((out / "resolved.json").read_text())["options"]
+    assert opts["alpha"] == 0.02 and opts["wall_pressure"] == "adami"
+    assert opts["mls_every"] == 30 and opts["kernel"] == "cubic"  # the case's own scheme otherwise
+    assert _cli(["run", str(out / "case.toml"), "--end-time", "0.002", "--no-progress", "--no-plot",
+                 "--out", str(tmp_path / "again"), "--option", "alpha=0.05"]) == 0
+    assert json.loads((tmp_path / "again" / "resolved.json").read_text())["options"]["alpha"] == 0.05

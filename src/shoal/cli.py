@@ -129,12 +129,15 @@ def _case_args(r):
     r.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="a parameter of a built-in case (repeatable), e.g. --param inflow_speed=0.7 "
                         "(see `shoal cases`)")
+    r.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                   help="an SPH option (repeatable; any key of the case file's [options] table), "
+                        "e.g. --option alpha=0.02 --option wall_pressure=adami")
     r.add_argument("--half", action="store_true",
                    help="tidal-bore cases: model half the width with a symmetry plane (--param half=true)")
 
 
-def _parse_params(items):
-    """--param KEY=VALUE items -> dict, values parsed as TOML (numbers, booleans, strings)."""
+def _parse_params(items, flag="--param", example="inflow_speed=0.7"):
+    """--param (or `flag`) KEY=VALUE items -> dict, values parsed as TOML (numbers, booleans, strings)."""
     import tomllib
 
     out = {}
@@ -142,7 +145,7 @@ def _parse_params(items):
         key, sep, text = item.partition("=")
         key = key.strip()
         if not sep or not key.isidentifier():
-            raise InputError(f"--param {item!r} must look like KEY=VALUE, e.g. --param inflow_speed=0.7")
+            raise InputError(f"{flag} {item!r} must look like KEY=VALUE, e.g. {flag} {example}")
         try:
             out[key] = tomllib.loads(f"v = {text.strip()}")["v"]
         except tomllib.TOMLDecodeError:
@@ -204,9 +207,22 @@ def _make_case(args):
             kwargs["end_time"] = args.end_time
         case = _get_case_checked(get_case, args.case, kwargs, params)
     changes = {k: getattr(args, k) for k in ("precision", "integrator", "kernel") if getattr(args, k, None) is not None}
+    changes.update(_parse_options(getattr(args, "option", [])))
     if changes:
         case = case.with_options(**changes)
     return case
+
+
+def _parse_options(items):
+    """--option KEY=VALUE items -> SPHOptions changes, each key and value's type checked (one-line errors)."""
+    from .options import SPHOptions
+
+    parsed = _parse_params(items, flag="--option", example="alpha=0.02")
+    try:
+        SPHOptions.check_types(parsed)
+    except InputError as err:
+        raise InputError(f"--option: {err}") from None
+    return parsed
 
 
 def _cmd_resume(args):
@@ -214,7 +230,8 @@ def _cmd_resume(args):
 
     fixed = [opt for opt, v in (("a case", args.case), ("--dp", args.dp), ("--output-interval", args.output_interval),
                                 ("--precision", args.precision), ("--integrator", args.integrator),
-                                ("--kernel", args.kernel), ("--param", args.param), ("--half", args.half),
+                                ("--kernel", args.kernel), ("--param", args.param), ("--option", args.option),
+                                ("--half", args.half),
                                 ("--out", args.out), ("--overwrite", args.overwrite)) if v]
     if fixed:
         raise InputError(f"--resume continues the run in {args.resume} with its own case; {', '.join(fixed)} cannot "

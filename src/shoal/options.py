@@ -217,6 +217,13 @@ class SPHOptions:
             return d
         if not isinstance(d, dict):
             raise InputError(f"must be a table of options, got {d!r}")
+        cls.check_types(d)
+        return cls(**d)
+
+    @classmethod
+    def check_types(cls, d):
+        """Raise `InputError` for an unknown key of `d` or a value of the wrong
+        type (a string is not a number, a boolean is not an integer)."""
         known = {f.name: f for f in fields(cls)}
         for k, v in d.items():
             if k not in known:
@@ -233,7 +240,6 @@ class SPHOptions:
             if not ok:
                 shown = {True: "true", False: "false"}.get(v, v) if isinstance(v, bool) else v
                 raise InputError(f"{k} = {shown!r} must be {what}".replace("'true'", "true").replace("'false'", "false"))
-        return cls(**d)
 
     @classmethod
     def from_dict(cls, d):
