@@ -78,3 +78,17 @@ def test_particles_leaving_the_domain_are_removed_and_counted():
     assert m.n == len(pos) - m.n_escaped
     assert np.all(m.pos[: m.n, 0] < 0.3)
     assert np.all(np.isfinite(m.pos[: m.n]))
+
+
+def test_particle_steps_per_second_counts_only_the_run_less_its_own_compiling(tmp_path):
+    """The throughput is particles x steps over the run's wall time less the compiling done inside the
+    run. Kernels first called while the model is built are compiled outside the run's wall time; with
+    that time subtracted too, a short run reported nan (`shoal run tidal-bore --dp 0.02 --end-time 0.02`:
+    0.2 s run, 0.3 s compiling) or a throughput too high."""
+    case = still_water_2d(dp=0.05, end_time=0.02)
+    res = run_case(case, tmp_path / "a", plot=False)
+    sim = res.simulation
+    assert 0.0 <= sim.compile_seconds <= res.compile_seconds
+    assert res.particle_steps_per_second == pytest.approx(
+        res.particles * res.steps / (sim.wall_seconds - sim.compile_seconds))
+    assert np.isfinite(res.particle_steps_per_second) and res.particle_steps_per_second > 0

@@ -44,7 +44,10 @@ class RunResult:
 
     @property
     def particle_steps_per_second(self):
-        run = self.wall_seconds - self.compile_seconds
+        """Particles times steps over the run's wall time less the compiling done inside it (kernels first
+        called while the model was built are compiled outside `wall_seconds`: subtracting all of
+        `compile_seconds` could leave nothing, or less than the run took)."""
+        run = self.wall_seconds - self.simulation.compile_seconds
         return self.particles * self.steps / run if run > 0 else math.nan
 
 

@@ -67,6 +67,7 @@ class Simulation:
         self.dt_floor_ratio = dt_floor_ratio
         self.check_every = check_every
         self.wall_seconds = 0.0
+        self.compile_seconds = 0.0  # the part of wall_seconds spent on first calls (compiling, cache loads)
         self.stop_requested = False  # set (e.g. by a signal handler) to end the run after the current step
         # func(sim) run after every step's callbacks, with no schedule and no state in checkpoints
         # (the MPI ranks' agreement on a stop signal)
@@ -139,6 +140,7 @@ class Simulation:
     def run(self, max_steps=None):
         """Run to `end_time` (or `max_steps` steps). Returns self."""
         t0 = _time.perf_counter()
+        c0 = self.model.backend.compile_seconds
         try:
             if not self.started:
                 self.model.sort()
@@ -156,4 +158,5 @@ class Simulation:
                     func(self)
         finally:
             self.wall_seconds += _time.perf_counter() - t0
+            self.compile_seconds += self.model.backend.compile_seconds - c0
         return self
