@@ -58,7 +58,7 @@ def main(argv=None):
     from shoal.cases.tidal_bore import PAPER_OPTIONS
     from shoal.errors import InputError
     from shoal.options import SPHOptions
-    from shoal.output.pvd import PVDWriter
+    from shoal.output.pvd import read_pvd
     from shoal.output.vtu import read_vtu
     from shoal.physics.spec import FLUID
 
@@ -114,7 +114,7 @@ def main(argv=None):
         index, inflow, fronts, snap_t, x_ends = [], [], [], [], []
         vols = [[] for _ in gauges]
         mass = case.fluid.rho0 * a.dp**2
-        for ts_k, name in PVDWriter._load(run_dir / "tidal-bore.pvd"):  # (time, file) of each snapshot
+        for ts_k, name in read_pvd(run_dir / "tidal-bore.pvd"):  # (time, file) of each snapshot
             pts, data = read_vtu(run_dir / name)
             snap_t.append(ts_k)
             x_ends.append(a.length - a.U * ts_k - 0.3)  # the depth profile stops 0.3 m before the inflow wall
@@ -133,10 +133,11 @@ def main(argv=None):
     c_all = celerity(xs, ts)
     c_set = celerity(xs[settled], ts[settled]) if settled.sum() >= 2 else float("nan")
     tf, xf = np.array(snap_t), np.array(fronts)
-    # a front within two bins of the profile's end is the end, not the front
-    track = np.isfinite(xf) & (xf >= a.settled - 1e-9) & (xf <= xs[-1] + 0.25) & (xf < np.array(x_ends) - 2 * a.bin)
+    # up to a quarter metre past the last gauge; a front within two bins of the profile's end is the end
+    found = np.isfinite(xf) & (xf <= xs[-1] + 0.25) & (xf < np.array(x_ends) - 2 * a.bin)
+    track = found & (xf >= a.settled - 1e-9)
     c_track = celerity(xf[track], tf[track]) if track.sum() >= 2 else float("nan")
-    track_all = np.isfinite(xf) & (xf >= xs[0] - 1e-9) & (xf <= xs[-1] + 0.25) & (xf < np.array(x_ends) - 2 * a.bin)
+    track_all = found & (xf >= xs[0] - 1e-9)
     c_track_all = celerity(xf[track_all], tf[track_all]) if track_all.sum() >= 2 else float("nan")
     lev = {f"{x:g}": (float(v), float(v / d1 - 1)) for x, v in zip(xs, levels)}
     # at least three snapshots (0.2 s of the water behind the front), as level_behind wants 0.05 s of record

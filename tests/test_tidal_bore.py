@@ -211,7 +211,7 @@ def breaking_bore_measures(run, U, dp, L, gauges=(0.5, 1.0, 1.5, 2.0), settled=(
     behind the front / d1 - 1}, {x: snapshots averaged}, snapshots in the track, max breaking index) of a
     finished 2D `tidal_bore` run in `run` (snapshots and gauges `gauge_x<x>`)."""
     from shoal.analysis import front_position, volume_depth
-    from shoal.output.pvd import PVDWriter
+    from shoal.output.pvd import read_pvd
 
     c, d1, _ = bore_from_inflow(U, D0)
     mid, mass = D0 + 0.5 * (d1 - D0), 1000.0 * dp**2
@@ -220,7 +220,7 @@ def breaking_bore_measures(run, U, dp, L, gauges=(0.5, 1.0, 1.5, 2.0), settled=(
         data = np.loadtxt(run / f"gauge_x{x:g}.csv", delimiter=",", skiprows=1, ndmin=2)
         arrivals[x] = arrival_time(data[:, 0], data[:, 1], mid)
     times, fronts, index, depths = [], [], [], {x: [] for x in gauges}
-    for t, name in PVDWriter._load(run / "tidal-bore.pvd"):
+    for t, name in read_pvd(run / "tidal-bore.pvd"):
         pts, data = read_vtu(run / name)
         fl = data["kind"] == FLUID
         x_end = L - U * t - 0.3  # the depth profile stops 0.3 m before the inflow wall

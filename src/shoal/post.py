@@ -654,11 +654,11 @@ def parse_plane(spec):
 
 
 def _snapshots(run_dir):
-    from .output.pvd import PVDWriter
+    from .output.pvd import read_pvd
 
     for pvd in sorted(run_dir.glob("*.pvd")):
         try:
-            entries = PVDWriter._load(pvd)
+            entries = read_pvd(pvd)
         except ValueError:
             continue
         entries = [(t, f) for t, f in entries if (run_dir / f).is_file()]

@@ -1,7 +1,7 @@
 """Simulation output: VTU snapshots (PVTU pieces under MPI), the PVD time index and quick-look plots."""
 
 from shoal.output.plot import plot_particles
-from shoal.output.pvd import PVDWriter
+from shoal.output.pvd import PVDWriter, read_pvd
 from shoal.output.pvtu import read_pvtu, write_pvtu
 from shoal.output.vtu import read_vtu, write_vtu
 

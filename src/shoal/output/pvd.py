@@ -13,6 +13,20 @@ from .atomic import write_text_atomic
 __all__ = ["PVDWriter"]
 
 
+def read_pvd(path):
+    """The snapshots a ``.pvd`` collection lists: [(time [s], file name), ...]
+    in its order (the file names relative to the collection's folder).
+    Raises ValueError naming what is wrong with a damaged file."""
+    try:
+        root = ET.parse(path).getroot()
+        entries = [(float(ds.attrib["timestep"]), ds.attrib["file"]) for ds in root.iter("DataSet")]
+    except (ET.ParseError, KeyError, ValueError) as exc:
+        raise ValueError(f"{path}: {exc}") from exc
+    if root.tag != "VTKFile" or root.get("type") != "Collection":
+        raise ValueError(f"{path}: not a VTK Collection file")
+    return entries
+
+
 class PVDWriter:
     """Maintain ``directory/name.pvd`` listing snapshots and their times.
 
@@ -55,16 +69,9 @@ class PVDWriter:
     @staticmethod
     def _load(path):
         try:
-            root = ET.parse(path).getroot()
-            entries = [
-                (float(ds.attrib["timestep"]), ds.attrib["file"])
-                for ds in root.iter("DataSet")
-            ]
-        except (ET.ParseError, KeyError, ValueError) as exc:
+            return read_pvd(path)
+        except ValueError as exc:
             raise ValueError(f"cannot resume from {path}: {exc}") from exc
-        if root.tag != "VTKFile" or root.get("type") != "Collection":
-            raise ValueError(f"cannot resume from {path}: not a VTK Collection file")
-        return entries
 
     def _write(self):
         byte_order = "LittleEndian" if sys.byteorder == "little" else "BigEndian"

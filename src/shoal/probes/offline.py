@@ -24,7 +24,7 @@ def run_probes_offline(run_dir, probes, out_dir=None, backend="cpu"):
     """
     from ..casefile import load_case
     from ..model import Model
-    from ..output.pvd import PVDWriter
+    from ..output.pvd import read_pvd
     from ..output.vtu import read_vtu
     from . import make_recorder
 
@@ -36,7 +36,7 @@ def run_probes_offline(run_dir, probes, out_dir=None, backend="cpu"):
     pvds = sorted(run_dir.glob("*.pvd"))
     if not pvds:
         raise InputError(f"{run_dir} holds no .pvd snapshot collection")
-    entries = PVDWriter._load(pvds[0])
+    entries = read_pvd(pvds[0])
     out_dir = Path(out_dir) if out_dir is not None else run_dir / "offline"
     out_dir.mkdir(parents=True, exist_ok=True)
     lo, hi = case.resolved_domain()
