@@ -151,3 +151,21 @@ def test_probes_run_offline_over_snapshots_give_the_run_values(tmp_path):
     assert [r[0] for r in recs[0].rows] == pytest.approx([r[0] for r in online_g])
     np.testing.assert_allclose([r[1] for r in recs[0].rows], [r[1] for r in online_g], atol=1e-4)
     np.testing.assert_allclose(np.array(recs[1].rows)[:, 4], np.array(online_p)[:, 4], rtol=1e-4)  # pressure
+
+
+def test_probes_offline_over_a_damaged_collection_is_one_input_error(tmp_path):
+    """A run directory whose .pvd is cut off: one InputError naming the file (it was a ValueError
+    traceback about resuming), and the snapshots are left as they were."""
+    from shoal.errors import InputError
+    from shoal.probes.offline import run_probes_offline
+
+    case = still_water_2d(dp=0.04, depth=0.4, length=0.8, end_time=0.02, output_interval=0.02)
+    shoal.run_case(case, tmp_path / "run", plot=False)
+    pvd = next((tmp_path / "run").glob("*.pvd"))
+    pvd.write_text(pvd.read_text()[:80])
+    before = sorted(p.name for p in (tmp_path / "run").iterdir())
+    gauge = WaveGauge(name="g", x=0.4, z0=0.2, z1=0.6, interval=0.02)
+    with pytest.raises(InputError, match=f"cannot read the snapshot collection .*{pvd.name}") as info:
+        run_probes_offline(tmp_path / "run", [gauge])
+    assert "\n" not in str(info.value)
+    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == before

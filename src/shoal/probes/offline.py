@@ -36,7 +36,10 @@ def run_probes_offline(run_dir, probes, out_dir=None, backend="cpu"):
     pvds = sorted(run_dir.glob("*.pvd"))
     if not pvds:
         raise InputError(f"{run_dir} holds no .pvd snapshot collection")
-    entries = read_pvd(pvds[0])
+    try:
+        entries = read_pvd(pvds[0])
+    except ValueError as err:
+        raise InputError(f"cannot read the snapshot collection {err}") from None
     out_dir = Path(out_dir) if out_dir is not None else run_dir / "offline"
     out_dir.mkdir(parents=True, exist_ok=True)
     lo, hi = case.resolved_domain()
