@@ -129,6 +129,10 @@ class SphericTest2(ValidationCase):
         Largest relative error of P1's first-peak pressure (0.5).
     dp : float
         The --full spacing [m] (0.05: dp = 0.04 m does not fit 30 minutes on one thread, see the README).
+    end_time : float
+        End of the run and of the compared window [s] (4).
+    options : SPHOptions, optional
+        The scheme (default: the case defaults, as `dam-break-3d`).
     """
 
     name = "spheric-test2"
@@ -164,8 +168,10 @@ class SphericTest2(ValidationCase):
                       "impact on the box, the run-up at the far wall and the reflected wave's return past every "
                       "gauge (x = 2.638 m at about 2.75 s); the second return (4.5-5 s) is left out.")
 
-    def __init__(self, tolerance=0.10, peak_time_tolerance=0.05, peak_tolerance=0.5, dp=0.05, end_time=4.0):
+    def __init__(self, tolerance=0.10, peak_time_tolerance=0.05, peak_tolerance=0.5, dp=0.05, end_time=4.0,
+                 options=None):
         self.tol = float(tolerance)
+        self.options = options
         self.peak_time_tol = float(peak_time_tolerance)
         self.peak_tol = float(peak_tolerance)
         self.dp = float(dp)
@@ -180,7 +186,7 @@ class SphericTest2(ValidationCase):
             return res
         import shoal
 
-        case = spheric_test2_case(dp=self.dp, end_time=self.end_time)
+        case = spheric_test2_case(dp=self.dp, end_time=self.end_time, options=self.options)
         names = list(probe_points(self.dp))
         t0 = time.perf_counter()
         with tempfile.TemporaryDirectory(prefix="shoal-validate-") as tmp:
