@@ -12,10 +12,18 @@
 #   tests  the CUDA parity, grid and MPI tests on the hardware                          -> $OUT/tests.log
 #   seed   the seed cases with --backend cuda: the tidal bore at the paper's dp = 5 mm (3D) and the
 #          rip-current basin at the paper's dp = 0.02 m (4.1M particles), short runs      -> $OUT/seed.log
+#   rip    issue 6 item 5: the rip-current validation run (validation/rip-current/run.py) at RIP_DP
+#          (default 0.04 m: 437,262 particles, 36,571 steps to t = 22.5 s, 1.6e10 particle-steps; 0.03 m:
+#          896,148 and 48,761, 4.4e10) on the GPU within RIP_LIMIT s (default 480), then its analysis
+#          -> $OUT/rip.log, results.json, meanflow_current.png, meanflow_setup.png (not in the default set)
 set -u
 OUT=${OUT:-runs/device}
 mkdir -p "$OUT"
 stages=("$@"); [ ${#stages[@]} -eq 0 ] && stages=(info bench tests seed)
+for s in "${stages[@]}"; do
+  case $s in info|bench|tests|seed|rip) ;;
+  *) echo "check.sh: unknown stage '$s'; allowed: info bench tests seed rip" >&2; exit 2 ;; esac
+done
 export PYTHONUNBUFFERED=1
 if [ -d .whl ]; then
     python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl \
@@ -59,6 +67,12 @@ for s in "${stages[@]}"; do
           --out /tmp/seed-rip --overwrite; echo "exit $?"; tail -3 /tmp/seed-rip/run.log 2>/dev/null
     } > "$OUT/seed.log" 2>&1
     tail -20 "$OUT/seed.log" ;;
-  *) echo "check.sh: unknown stage '$s'; allowed: info bench tests seed" >&2; exit 2 ;;
+  rip)
+    { stamp "rip-current dp=${RIP_DP:-0.04}";
+      timeout "${RIP_LIMIT:-480}" $PY validation/rip-current/run.py --out /tmp/rip --dp "${RIP_DP:-0.04}" \
+          --backend cuda --overwrite; echo "run exit $?"; tail -4 /tmp/rip/run.log 2>/dev/null
+      stamp analyse; timeout 120 $PY validation/rip-current/analyse.py /tmp/rip --out "$OUT"; echo "analyse exit $?"
+    } > "$OUT/rip.log" 2>&1
+    tail -30 "$OUT/rip.log" ;;
   esac
 done

@@ -153,6 +153,8 @@ def main(argv=None):
     ap.add_argument("--max-steps", type=int, default=None, help="stop after N steps (timing)")
     ap.add_argument("--check", action="store_true", help="print the counts and time step, do not run")
     ap.add_argument("--overwrite", action="store_true")
+    ap.add_argument("--backend", default="cpu", help="cpu (default) or cuda (dp = 0.03-0.04 m: a GPU run, "
+                                                     "`benchmarks/device/check.sh rip`)")
     a = ap.parse_args(argv)
     case = make_case(a.dp, a.paddle_x, a.end_time, basin_end=a.basin_end)
     if a.check:
@@ -160,7 +162,8 @@ def main(argv=None):
 
         print("\n".join(check_case(case)))
         return 0
-    res = shoal.run_case(case, a.out, progress=False, plot=True, max_steps=a.max_steps, overwrite=a.overwrite)
+    res = shoal.run_case(case, a.out, backend=a.backend, progress=False, plot=True, max_steps=a.max_steps,
+                         overwrite=a.overwrite)
     print(f"done: {res.steps} steps to t = {res.time:.4g} s, {res.particles} particles, "
           f"{res.wall_seconds:.0f} s wall ({res.compile_seconds:.0f} s compile), "
           f"{res.particle_steps_per_second:.3g} particle-steps/s")
