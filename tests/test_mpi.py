@@ -145,12 +145,13 @@ def _particle_probes(interval):
     fluid particles nearest to the front's foot (it runs across the cut), to the back of the column
     (stays on rank 0) and to the front's top corner, and id 100 (fluid, at the back); the max-z gauge sits
     on the cut (dry at first: NaN), the run-up range spans it, its y band holds one column of particles."""
-    from shoal.probes import MaxZGauge, RunupGauge, Tracker
+    from shoal.probes import FlowGauge, MaxZGauge, RunupGauge, Tracker
 
     return [Tracker(name="t", start=[(0.128, 0.072, 0.012), (0.012, 0.07, 0.15), (0.13, 0.09, 0.288)], ids=[100],
                     interval=interval),
             MaxZGauge(name="cut", x=0.17, y=0.08, radius=0.03, interval=interval),
-            RunupGauge(name="r", x0=0.1, x1=0.5, y=0.07, band=0.02, interval=interval)]
+            RunupGauge(name="r", x0=0.1, x1=0.5, y=0.07, band=0.02, interval=interval),
+            FlowGauge(name="cut", at=0.17, interval=interval)]
 
 
 @pytest.fixture(scope="module")
@@ -228,7 +229,7 @@ def _csv_rows(path):
 
 
 def test_particle_probes_two_ranks_match_one(dam_break_runs):
-    """Trackers, max-z and run-up gauges under MPI (`_particle_probes` in the small 3D dam break, 7
+    """Trackers, max-z, run-up and flow gauges under MPI (`_particle_probes` in the small 3D dam break, 7
     samples to t = 0.15 s): the 2-rank run writes the files of the single-process run: the same header
     (the same particles chosen from the start points), the same sample times (as text), NaN in the same
     places (the max-z gauge on the cut is dry at first), and values within 1e-6 m (5e-5 dp). The tracked
@@ -246,7 +247,7 @@ def test_particle_probes_two_ranks_match_one(dam_break_runs):
     case, one, two, _ = dam_break_runs
     dp = case.dp
     errs = {}
-    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv"):
+    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv"):
         h1, t1, v1 = _csv_rows(one / name)
         h2, t2, v2 = _csv_rows(two / name)
         assert h1 == h2 and t1 == t2 and len(t1) == 7, (name, h1, h2, t1, t2)
@@ -258,6 +259,11 @@ def test_particle_probes_two_ranks_match_one(dam_break_runs):
     assert np.isnan(mz[0, 0]) and np.all(np.isfinite(mz[-3:, 0])), mz
     _, _, ru = _csv_rows(two / "runup_r.csv")
     assert np.all(np.isfinite(ru)) and ru[0, 0] > ru[-1, 0] + 2 * dp, ru  # the column falls
+    # the flow gauge on the cut: particles pass it from rank 0's slab into rank 1's; the volume counted is
+    # whole particles (dp^3 each), the same on both runs (checked above), and grows
+    _, _, fl = _csv_rows(two / "flow_cut.csv")
+    assert fl[0, 0] == 0.0 and fl[-1, 0] > 10 * dp**3 and np.all(np.diff(fl[:, 0]) >= 0), fl
+    assert np.allclose(fl[:, 0] / dp**3, np.round(fl[:, 0] / dp**3), atol=1e-6)
     # the tracker: id 100, then the fluid particles nearest to the start points (on the lattice at t = 0)
     head, _, tr = _csv_rows(two / "track_t.csv")
     ids = [int(c[2:]) for c in head[1::3]]
@@ -529,7 +535,7 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
         pa, da = read_vtu(a / last / f"{last}_{piece}.vtu")
         pb, db = read_vtu(b / last / f"{last}_{piece}.vtu")
         assert np.array_equal(pa, pb) and all(np.array_equal(da[k], db[k]) for k in da)
-    for name in ("gauge_column.csv", "track_t.csv", "maxz_cut.csv", "runup_r.csv"):
+    for name in ("gauge_column.csv", "track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     assert (a / "dam-break-3d.pvd").read_text() == (b / "dam-break-3d.pvd").read_text()
     assert len(list(b.glob("ckpt_*.mpi.json"))) == 2 and len(list(b.glob("ckpt_*.rank*.h5"))) == 4
@@ -539,7 +545,7 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
     assert np.array_equal(sc["idp"], np.arange(9204))
     assert np.max(np.abs(sc["pos"] - sa["pos"])) <= 0.01 * 0.02
     assert "written by 2 MPI ranks, re-distributed over 3 ranks" in (c / "run.log").read_text()
-    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv"):  # the rows before the stop kept, then continued
+    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv"):  # rows before the stop kept, then on
         ha, ta, va = _csv_rows(a / name)
         hc, tc, vc = _csv_rows(c / name)
         assert ha == hc and ta == tc and len(ta) == 12 and np.array_equal(np.isnan(va), np.isnan(vc)), name

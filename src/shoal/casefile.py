@@ -27,10 +27,10 @@ from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeri
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
            "time_series": TimeSeriesMotion}
-from .probes import MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
+from .probes import FlowGauge, MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
 
 PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker, "maxz": MaxZGauge,
-          "runup": RunupGauge}
+          "runup": RunupGauge, "flow": FlowGauge}
 _TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
 
 
@@ -231,6 +231,8 @@ TABLE_DOCS = {
     ("probes", "x1"): "end of the run-up gauge's x range [m]",
     ("probes", "band"): "width in y of the run-up gauge's strip (3D) [m]",
     ("probes", "landward"): '"+x" or "-x": which way the beach rises',
+    ("probes", "axis"): 'the flow gauge\'s section is the plane axis = at ("x", "y" or "z")',
+    ("probes", "at"): "position of the flow gauge's section along its axis [m]",
     ("damping", "rate"): "damping rate [1/s]: velocity x max(1 - dt rate f^2, 0)",
     ("motions", "start"): "start time [s]",
     ("checkpoint", "interval"): "simulated time between checkpoints [s] (0 = none)",

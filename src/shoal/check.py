@@ -85,6 +85,8 @@ def probe_record_values(case, spec):
         return 2, 0
     if spec.type == "runup":
         return 4, 0
+    if spec.type == "flow":
+        return 4, 0
     return 0, 0  # trackers write their rows to the CSV only
 
 
@@ -144,6 +146,17 @@ def check_probes(case, n_particles):
                 if a in axes and (node_axis.min() < lo[a] - tol or node_axis.max() > hi[a] + tol):
                     raise InputError(f"{where}: its nodes reach {name} = [{node_axis.min():.4g}, "
                                      f"{node_axis.max():.4g}] m, outside the domain {dom}; a grid must lie inside it")
+        elif pr.type == "flow":
+            a = "xyz".index(pr.axis)
+            if case.dim == 2 and pr.axis == "y":
+                raise InputError(f"{where}: axis = 'y' in a 2D run (the x-z plane); allowed 'x' or 'z'")
+            if not lo[a] - tol <= pr.at <= hi[a] + tol:
+                raise InputError(f"{where}: the section {pr.axis} = {pr.at:g} m lies outside the domain {dom}")
+            if pr.lo is not None and pr.hi is not None:
+                for k in axes:
+                    if k != a and pr.hi[k] == pr.lo[k]:
+                        raise InputError(f"{where}: lo[{k}] = hi[{k}] = {pr.lo[k]:g} m: the section has no extent in "
+                                         f"{'xyz'[k]}; give hi[{k}] > lo[{k}], or leave lo and hi out")
         elif pr.type == "runup":
             if pr.x1 < lo[0] or pr.x0 > hi[0] or (case.dim == 3 and outside((0.0, pr.y, 0.0), (1,))):
                 raise InputError(f"{where}: x0 .. x1 = {pr.x0:g} .. {pr.x1:g} m"

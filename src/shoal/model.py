@@ -574,6 +574,36 @@ class Model:
         fluid = kinds == FLUID
         return nearest_particles(pos[fluid], idp[fluid], points)[1]
 
+    @property
+    def particle_volume(self):
+        """Volume of one particle at the reference density, m / rho0 = dp^dim [m^3; 2D: m^2 per metre]."""
+        return self.mass / self.rho0
+
+    @property
+    def n_ids(self):
+        """Number of particle ids of the case (ids run from 0 to n_ids - 1)."""
+        return self.n_total
+
+    def owned_density(self):
+        """(N,) float64 densities of the particles `owned_particles` gives."""
+        return self.host(self.rho).astype(np.float64)
+
+    def flow_sample(self, spec, prev):
+        """One sample of a `FlowGauge` `spec` (`shoal.probes.flow.flow_measure` over the fluid).
+
+        Returns (each fluid particle's coordinate along the axis by id, NaN for the other ids;
+        the net number of particles that crossed the section since `prev`, None without `prev`;
+        the instantaneous slab flow rate)."""
+        from .probes.flow import flow_measure
+
+        pos, kinds, ids = self.owned_particles()
+        axis = spec.axis
+        period = 0.0
+        if axis in self.periodic:
+            period = self.params.per_len_x if axis == "x" else self.params.per_len_y
+        return flow_measure(pos, self.world_velocities(), self.owned_density(), kinds, ids, spec, self.dim,
+                            self.dp, self.mass, prev, self.n_ids, period)
+
     def highest_fluid(self, spec, tie=0.0):
         """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` `spec` over the fluid
         particles (`shoal.probes.highest_fluid`; NaNs when its region holds none)."""

@@ -43,7 +43,7 @@ from .errors import InputError
 __all__ = ["post", "plot_gauges", "plot_mean_flow", "plot_tracks", "plot_plane", "mean_flow", "parse_plane",
            "surface_levels", "run_info"]
 
-GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv")
+GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv", "flow_*.csv")
 _UNITS = {"level": "free-surface elevation [m]", "zmax": "highest fluid particle z [m]",
           "velocity": "velocity [m/s]", "p": "pressure [Pa]", "rho": "density [kg/m$^3$]",
           "position": "position of the highest particle [m]"}
@@ -154,6 +154,17 @@ def _groups(kind, header, spec, dim=None):
         pos = [(cols[c], c) for c in ("x", "y") if c in cols and not (c == "y" and dim == 2)]
         if pos:
             out.append((_UNITS["position"], pos))
+        return out
+    if kind == "flow":
+        per = " per metre of width" if dim == 2 else ""
+        vol, rate = ("m$^2$", "m$^2$/s") if dim == 2 else ("m$^3$", "m$^3$/s")
+        out = []
+        if "volume" in cols:
+            out.append((f"volume passed{per} [{vol}]", [(cols["volume"], "net volume through the section")]))
+        rates = [(cols[c], leg) for c, leg in (("rate", "mean since the last sample (count)"),
+                                               ("rate_slab", "instantaneous (slab 2 dp)")) if c in cols]
+        if rates:
+            out.append((f"flow rate{per} [{rate}]", rates))
         return out
     points = (spec or {}).get("points") or []
     panels = {"velocity": [], "p": [], "rho": []}
@@ -808,7 +819,7 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
         raise InputError(f"{run_dir} holds no shoal run output (gauge, probe, test-point, track or snapshot "
                          "files)")
     chosen = {"gauges": gauges, "mean_flow": mean_flow, "tracks": tracks, "plane": plane is not None}
-    what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv or probe_*.csv files",
+    what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv or flow_*.csv files",
             "mean_flow": "testpoints_*.nc test-point grids", "tracks": "track_*.csv files",
             "plane": "snapshots (.pvd + .vtu)"}
     if any(chosen.values()):

@@ -841,6 +841,31 @@ class DistributedModel(Model):
         out = np.where(d2 == best, ids, np.iinfo(np.int64).max).min(axis=0)
         return np.where(np.isfinite(best), out, -1)
 
+    @property
+    def n_ids(self):
+        """Particle ids of the whole case (0 .. n_global - 1)."""
+        return self.n_global
+
+    def owned_density(self):
+        return self.host(self.rho)[self.owned].astype(np.float64)
+
+    def flow_sample(self, spec, prev):
+        """A `FlowGauge` sample over every rank's fluid, the same on every rank (collective): each
+        rank measures its owned particles against the whole-case `prev`; the coordinates by id are
+        merged (a particle is owned by one rank), the crossings and slab sums added."""
+        from mpi4py import MPI
+
+        new, crossed, q = super().flow_sample(spec, prev)
+        t0 = _time.perf_counter()
+        buf = np.where(np.isnan(new), -np.inf, new)
+        out = np.empty_like(buf)
+        self.comm.Allreduce(buf, out, op=MPI.MAX)
+        self.comm_seconds += _time.perf_counter() - t0
+        q = self.allreduce(q, "sum")
+        if crossed is not None:
+            crossed = self.allreduce(crossed, "sum")
+        return np.where(np.isneginf(out), np.nan, out), crossed, q
+
     def highest_fluid(self, spec, tie=0.0):
         """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` over every rank's fluid,
         the same on every rank (collective): zmax is the MPI max of the ranks' highest

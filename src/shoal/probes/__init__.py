@@ -20,7 +20,10 @@ flushed as it goes, so a crash loses nothing already measured):
   (x, y) (DualSPHysics's GaugeMaxZ), ``maxz_<name>.csv``;
 * `RunupGauge`: the highest elevation reached by fluid particles in a
   cross-shore range [x0, x1] (and a y band in 3D), and where: the shoreline
-  run-up on a beach, ``runup_<name>.csv``.
+  run-up on a beach, ``runup_<name>.csv``;
+* `FlowGauge`: the volume of water that has passed a cross-section and the
+  flow rate through it (DualSPHysics's FlowTool), ``flow_<name>.csv``
+  (`shoal.probes.flow`).
 
 The max-z and run-up gauges read particle centres, as DualSPHysics's
 GaugeMaxZ does: in still water the top particles sit dp/2 below the free
@@ -150,7 +153,35 @@ class RunupGauge(Spec):
         return self
 
 
-AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge],
+class FlowGauge(Spec):
+    """Flow through the cross-section ``axis = at`` [m] (x, y or z = const),
+    limited in the other two coordinates to [lo, hi] (the component along
+    `axis` is ignored; omitted: unbounded), every `interval` s, written to
+    ``flow_<name>.csv``: time, the net volume that has passed in the +axis
+    direction since t = 0 (counted particle by particle, exact), the mean flow
+    rate since the previous sample, and the instantaneous flow rate from the
+    particles in a slab 2 dp wide (`shoal.probes.flow`). 3D: m^3, m^3/s; 2D:
+    per metre of width, m^2, m^2/s."""
+
+    type: Literal["flow"] = "flow"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    axis: Literal["x", "y", "z"] = "x"
+    at: Real
+    lo: Vec3 | None = None
+    hi: Vec3 | None = None
+    interval: PositiveReal
+
+    @model_validator(mode="after")
+    def _extent(self):
+        if self.lo is not None and self.hi is not None:
+            for k, c in enumerate("xyz"):
+                if c != self.axis and self.hi[k] < self.lo[k]:
+                    raise ValueError(f"hi[{k}] = {self.hi[k]} must not be below lo[{k}] = {self.lo[k]} (the "
+                                     f"section's extent in {c})")
+        return self
+
+
+AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge, FlowGauge],
                      Field(discriminator="type")]
 
 
@@ -176,6 +207,10 @@ def make_recorder(spec, out_dir, dp, model):
         return TrackRecorder(spec, out_dir, model)
     if isinstance(spec, (MaxZGauge, RunupGauge)):
         return MaxZRecorder(spec, out_dir, dp)
+    if isinstance(spec, FlowGauge):
+        from .flow import FlowRecorder
+
+        return FlowRecorder(spec, out_dir, model)
     return ProbeRecorder(spec, out_dir, dp)
 
 

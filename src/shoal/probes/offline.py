@@ -1,7 +1,7 @@
 """Run probes over the snapshots a run saved (offline post-processing).
 
 The same recorders as during a run (`make_recorder`) sample a model
-rebuilt from each snapshot (positions, velocities, densities, kinds) with
+rebuilt from each snapshot (positions, velocities, densities, kinds, ids) with
 the run's resolved case (``case.toml``), on the same backend kernels: the
 interpolation is the same as in the run, only at the snapshot times.
 """
@@ -56,10 +56,13 @@ def run_probes_offline(run_dir, probes, out_dir=None, backend="cpu"):
                       periodic=tuple(case.domain.periodic) if case.domain else (),
                       planes=[(p.point, p.normal) for p in case.planes], backend=backend)
         rho = np.asarray(data["density"], model.dtype)
+        ids = np.asarray(data["id"], model.idp.dtype)  # the run's particle ids (rows are in cell order)
         if model.backend.name == "cpu":
             model.rho[:] = rho
+            model.idp[:] = ids
         else:
             model.rho.copy_to_device(rho)
+            model.idp.copy_to_device(ids)
         model.sort()
         if recorders is None:
             recorders = [make_recorder(p, out_dir, case.dp, model) for p in probes]

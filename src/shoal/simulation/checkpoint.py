@@ -219,36 +219,40 @@ def callback_state(func):
     restart can cut the file back exactly), the in-memory ``rows``, a
     test-point grid's ``times`` and ``samples``, a tracker's ``ids``.
     """
-    if hasattr(func, "checkpoint_state"):
-        state = func.checkpoint_state()
-    else:
-        state = {}
-        f = getattr(func, "file", None)
-        path = getattr(func, "path", None)
-        if f is not None and path is not None and not getattr(f, "closed", True):
-            f.flush()
-            state["file_bytes"] = int(os.fstat(f.fileno()).st_size)
-            state["file_name"] = Path(path).name
-        rows = getattr(func, "rows", None)
-        if isinstance(rows, list):
-            state["n_rows"] = len(rows)
-            if rows:
-                state["rows"] = np.asarray(rows, dtype=np.float64)
-        times = getattr(func, "times", None)
-        samples = getattr(func, "samples", None)
-        if isinstance(times, list) and isinstance(samples, list):
-            state["times"] = np.asarray(times, dtype=np.float64)
-            for key in (samples[0] if samples else {}):
-                state[f"samples/{key}"] = np.stack([np.asarray(s[key]) for s in samples])
-            state["sample_keys"] = list(samples[0]) if samples else []
-        ids = getattr(func, "ids", None)
-        if isinstance(ids, np.ndarray):
-            state["ids"] = ids
+    state = func.checkpoint_state() if hasattr(func, "checkpoint_state") else recorder_state(func)
     if not state:
         return None
     scalars = {k: v for k, v in state.items() if not isinstance(v, np.ndarray)}
     arrays = {k: v for k, v in state.items() if isinstance(v, np.ndarray)}
     return scalars, arrays
+
+
+def recorder_state(func):
+    """The state a probe recorder keeps in its attributes (see `callback_state`), as one dict;
+    a recorder with more state calls it from its ``checkpoint_state``."""
+    state = {}
+    f = getattr(func, "file", None)
+    path = getattr(func, "path", None)
+    if f is not None and path is not None and not getattr(f, "closed", True):
+        f.flush()
+        state["file_bytes"] = int(os.fstat(f.fileno()).st_size)
+        state["file_name"] = Path(path).name
+    rows = getattr(func, "rows", None)
+    if isinstance(rows, list):
+        state["n_rows"] = len(rows)
+        if rows:
+            state["rows"] = np.asarray(rows, dtype=np.float64)
+    times = getattr(func, "times", None)
+    samples = getattr(func, "samples", None)
+    if isinstance(times, list) and isinstance(samples, list):
+        state["times"] = np.asarray(times, dtype=np.float64)
+        for key in (samples[0] if samples else {}):
+            state[f"samples/{key}"] = np.stack([np.asarray(s[key]) for s in samples])
+        state["sample_keys"] = list(samples[0]) if samples else []
+    ids = getattr(func, "ids", None)
+    if isinstance(ids, np.ndarray):
+        state["ids"] = ids
+    return state
 
 
 def _digest(datasets):
@@ -579,8 +583,13 @@ def restore_recorder(rec, scalars, arrays, backup=None):
         by the system, e.g. a power cut before they reached the disk).
     """
     if hasattr(rec, "restore_checkpoint_state"):
-        rec.restore_checkpoint_state(scalars, arrays, backup)
-        return None
+        return rec.restore_checkpoint_state(scalars, arrays, backup)
+    return restore_recorder_files(rec, scalars, arrays, backup)
+
+
+def restore_recorder_files(rec, scalars, arrays, backup=None):
+    """`restore_recorder` for the state of `recorder_state`: the CSV cut back to its length at
+    the checkpoint, the rows, samples and ids; returns the warning (or None)."""
     warning = None
     f = getattr(rec, "file", None)
     if f is not None and backup is not None and Path(backup).exists():
