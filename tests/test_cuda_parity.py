@@ -299,6 +299,22 @@ def test_flow_gauge_matches_cpu():
 
 
 @needs_cuda
+def test_isosurface_matches_cpu():
+    """The free-surface mesh (`shoal.output.isosurface.surface_mesh`) from the CUDA backend's kernel sums
+    is the CPU's: the same segments, vertices within 1e-9 m."""
+    from shoal.output.isosurface import surface_mesh
+
+    cpu, gpu = _pair("float64")
+    out = []
+    for m in (cpu, gpu):
+        m.sort()
+        out.append(surface_mesh(m, spacing=m.dp))
+    (pa, (ka, ca)), (pb, (kb, cb)) = out
+    assert ka == kb == "line" and len(ca) > 20 and np.array_equal(ca, cb)
+    assert np.max(np.abs(pa - pb)) <= 1e-9
+
+
+@needs_cuda
 def test_free_surface_flags_match_cpu():
     cpu, gpu = _pair("float64")
     out = []

@@ -80,7 +80,7 @@ def build_parser():
     pc.add_argument("case", help="built-in case name or a TOML case file")
     pc.add_argument("-o", "--output", default=None, help="PNG to write (default: CASE_case.png)")
     _case_args(pc)
-    po = sub.add_parser("post", help="standard plots of a finished run (PNGs in RUN_DIR/post/)")
+    po = sub.add_parser("post", help="standard plots of a finished run (PNGs in RUN_DIR/post/), free-surface meshes")
     po.add_argument("run_dir", help="output directory of a run")
     po.add_argument("--out", default=None, help="folder for the PNGs (default: RUN_DIR/post)")
     po.add_argument("--gauges", action="store_true", help="time series of the gauge, max-z, run-up and probe files")
@@ -94,6 +94,14 @@ def build_parser():
                     help="averaging period [s] (default: the case's piston period, else the whole record)")
     po.add_argument("--periods", type=int, default=None, help="average over the last N periods (default: all)")
     po.add_argument("--start", type=float, default=None, help="ignore the record before this time [s]")
+    po.add_argument("--isosurface", action="store_true",
+                    help="the free surface of every snapshot as a mesh (VTK, ParaView): isosurface/ in the output "
+                         "folder (only when asked for)")
+    po.add_argument("--iso-spacing", type=_positive_float("--iso-spacing"), default=None, metavar="METRES",
+                    help="grid spacing of the iso-surface (default dp/2)")
+    po.add_argument("--iso-level", type=float, default=0.5,
+                    help="kernel-sum level of the iso-surface, 0 < level < 1 (default 0.5: the free surface)")
+    po.add_argument("--backend", default="cpu", help="backend of the iso-surface's kernel sums: cpu or cuda")
     va = sub.add_parser("validate", help="run the validation cases against reference data; write a report "
                                          "(REPORT.md, REPORT.html, PNGs)")
     va.add_argument("cases", nargs="*", metavar="CASE",
@@ -319,9 +327,17 @@ def cmd_plot_case(args):
 def cmd_post(args):
     from .post import post
 
+    if args.isosurface:
+        from .backends import check_backend
+
+        check_backend(args.backend)
     written = post(args.run_dir, out=args.out, gauges=args.gauges, mean_flow=args.mean_flow, tracks=args.tracks,
-                   plane=args.plane, time=args.time, period=args.period, periods=args.periods, start=args.start)
-    print(f"shoal: wrote {len(written)} PNG(s):")
+                   plane=args.plane, time=args.time, period=args.period, periods=args.periods, start=args.start,
+                   isosurface=args.isosurface, iso_spacing=args.iso_spacing, iso_level=args.iso_level,
+                   backend=args.backend)
+    pngs = sum(p.suffix == ".png" for p in written)
+    print(f"shoal: wrote {pngs} PNG(s)" + (f" and {len(written) - pngs} iso-surface file(s)" if args.isosurface
+                                           else "") + ":")
     for path in written:
         print(f"  {path}")
     return 0

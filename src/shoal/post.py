@@ -776,12 +776,13 @@ def plot_plane(run_dir, out, plane="mid", time=None):
 
 # ------------------------------------------------------------------ all
 def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=None, time=None, period=None,
-         periods=None, start=None):
+         periods=None, start=None, isosurface=False, iso_spacing=None, iso_level=0.5, backend="cpu"):
     """Make the standard plots of a finished run (``shoal post``).
 
     With no selector (`gauges`, `mean_flow`, `tracks`, `plane`), every plot
     that applies to the files present (the plane plot on the ``mid`` plane).
-    A selector whose files are missing is an error.
+    A selector whose files are missing is an error. The free-surface meshes
+    (`isosurface`) are made only when asked for.
 
     Parameters
     ----------
@@ -797,11 +798,19 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
         Snapshot time for the plane plot [s].
     period, periods, start
         The mean-flow averaging window (`plot_mean_flow`).
+    isosurface : bool
+        Also write the free surface of every snapshot as a mesh
+        (`shoal.output.isosurface.write_isosurfaces`: ``isosurface/`` in
+        `out`, a .pvd and one .vtu per snapshot).
+    iso_spacing, iso_level : float
+        Its grid spacing [m] (default dp/2) and kernel-sum level (1/2).
+    backend : str
+        Compute backend of the iso-surface's kernel sums ("cpu" or "cuda").
 
     Returns
     -------
     list of pathlib.Path
-        The PNGs written.
+        The files written (PNGs; with `isosurface`, then the .pvd and .vtu files).
 
     Raises
     ------
@@ -819,10 +828,14 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
         raise InputError(f"{run_dir} holds no shoal run output (gauge, probe, test-point, track or snapshot "
                          "files)")
     chosen = {"gauges": gauges, "mean_flow": mean_flow, "tracks": tracks, "plane": plane is not None}
+    if isosurface and not have["plane"]:
+        raise InputError(f"{run_dir} holds no snapshots (.pvd + .vtu) for --isosurface")
+    if isosurface and not any(chosen.values()):
+        chosen = {k: False for k in chosen}  # only the meshes
     what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv or flow_*.csv files",
             "mean_flow": "testpoints_*.nc test-point grids", "tracks": "track_*.csv files",
             "plane": "snapshots (.pvd + .vtu)"}
-    if any(chosen.values()):
+    if any(chosen.values()) or isosurface:
         for k, on in chosen.items():
             if on and not have[k]:
                 raise InputError(f"{run_dir} holds no {what[k]} for --{k.replace('_', '-')}")
@@ -841,4 +854,8 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
         written += plot_tracks(run_dir, out)
     if todo["plane"]:
         written += plot_plane(run_dir, out, plane if plane is not None else "mid", time)
+    if isosurface:
+        from .output.isosurface import write_isosurfaces
+
+        written += write_isosurfaces(run_dir, out / "isosurface", iso_spacing, iso_level, backend)
     return written
