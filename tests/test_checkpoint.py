@@ -25,7 +25,7 @@ from shoal import SPHOptions, load_case, run_case, write_case
 from shoal.case import Checkpointing
 from shoal.cli import main
 from shoal.output import read_vtu
-from shoal.probes import FlowGauge, TestPoints, WaveGauge
+from shoal.probes import FlowGauge, ForceGauge, TestPoints, WaveGauge
 from shoal.simulation.checkpoint import latest_checkpoint, list_checkpoints, read_checkpoint
 
 SRC = Path(shoal.__file__).resolve().parents[1]
@@ -37,7 +37,7 @@ def _case_file(tmp_path):
     case = case.model_copy(update={
         "probes": [WaveGauge(name="g1", x=0.25, z0=0.0, z1=0.3, interval=0.004),
                    TestPoints(name="grid", lo=(0.05, 0, 0.02), hi=(0.6, 0, 0.2), counts=(6, 1, 3), interval=0.01),
-                   FlowGauge(name="surge", at=0.2, interval=0.004)],
+                   FlowGauge(name="surge", at=0.2, interval=0.004), ForceGauge(name="tank", solid="tank", interval=0.004)],
         "checkpoint": Checkpointing(interval=0.02, wall_interval=0.0, keep=2)})
     path = tmp_path / "case.toml"
     write_case(case, path)
@@ -108,6 +108,7 @@ def _assert_same_records(ref_run, out):
     assert (out / "gauge_g1.csv").read_bytes() == (ref_run / "gauge_g1.csv").read_bytes()
     # the flow gauge's count goes on across the restart (its per-particle state is in the checkpoint)
     assert (out / "flow_surge.csv").read_bytes() == (ref_run / "flow_surge.csv").read_bytes()
+    assert (out / "force_tank.csv").read_bytes() == (ref_run / "force_tank.csv").read_bytes()
     import xarray as xr
 
     with xr.open_dataset(ref_run / "testpoints_grid.nc", engine="scipy") as a, \

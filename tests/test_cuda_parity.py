@@ -299,6 +299,30 @@ def test_flow_gauge_matches_cpu():
 
 
 @needs_cuda
+@pytest.mark.parametrize("opts", [{}, {"no_slip": True, "viscosity": "laminar", "nu": 1e-3}])
+def test_wall_forces_match_cpu(opts):
+    """The fluid's force on each boundary particle (`shoal.physics.forces`, a force gauge's sum) is the
+    CPU's on the CUDA backend, with the artificial viscosity and with no-slip walls and laminar
+    viscosity, within 1e-9 of the largest."""
+    cpu, gpu = _pair("float64", **opts)
+    _random_fluid_velocity(cpu, gpu, 6)
+    out = []
+    for m in (cpu, gpu):
+        m.sort()
+        if m.spec.no_slip:
+            b = m.backend
+            b.timed(b.wall_velocity, m.n, (m.pos, m.vel, m.kind, m.grid.cell, m.grid.cell_start, m.grid.gdims_arr,
+                                           m.P, m.vwall))
+        f, ids = m.wall_forces()
+        o = np.zeros((m.n_total, 3))
+        o[ids] = f
+        out.append(o)
+    assert np.max(np.abs(out[0])) > 0
+    assert np.max(np.abs(out[0] - out[1])) <= 1e-9 * np.max(np.abs(out[0]))
+    assert np.allclose(cpu.body_force(0), out[0].sum(axis=0))
+
+
+@needs_cuda
 def test_isosurface_matches_cpu():
     """The free-surface mesh (`shoal.output.isosurface.surface_mesh`) from the CUDA backend's kernel sums
     is the CPU's: the same segments, vertices within 1e-9 m."""

@@ -145,13 +145,14 @@ def _particle_probes(interval):
     fluid particles nearest to the front's foot (it runs across the cut), to the back of the column
     (stays on rank 0) and to the front's top corner, and id 100 (fluid, at the back); the max-z gauge sits
     on the cut (dry at first: NaN), the run-up range spans it, its y band holds one column of particles."""
-    from shoal.probes import FlowGauge, MaxZGauge, RunupGauge, Tracker
+    from shoal.probes import FlowGauge, ForceGauge, MaxZGauge, RunupGauge, Tracker
 
     return [Tracker(name="t", start=[(0.128, 0.072, 0.012), (0.012, 0.07, 0.15), (0.13, 0.09, 0.288)], ids=[100],
                     interval=interval),
             MaxZGauge(name="cut", x=0.17, y=0.08, radius=0.03, interval=interval),
             RunupGauge(name="r", x0=0.1, x1=0.5, y=0.07, band=0.02, interval=interval),
-            FlowGauge(name="cut", at=0.17, interval=interval)]
+            FlowGauge(name="cut", at=0.17, interval=interval),
+            ForceGauge(name="tank", solid="tank", interval=interval)]
 
 
 @pytest.fixture(scope="module")
@@ -259,6 +260,13 @@ def test_particle_probes_two_ranks_match_one(dam_break_runs):
     assert np.isnan(mz[0, 0]) and np.all(np.isfinite(mz[-3:, 0])), mz
     _, _, ru = _csv_rows(two / "runup_r.csv")
     assert np.all(np.isfinite(ru)) and ru[0, 0] > ru[-1, 0] + 2 * dp, ru  # the column falls
+    # the force on the tank (its particles on both ranks): the sum over the ranks, the single-process force
+    # within 1e-4 of its size (the ghosts a rank reads at a sample are those of the step's last exchange)
+    h1, t1, f1 = _csv_rows(one / "force_tank.csv")
+    h2, t2, f2 = _csv_rows(two / "force_tank.csv")
+    assert h1 == h2 and t1 == t2 and np.max(np.abs(f1 - f2)) <= 1e-4 * np.max(np.abs(f1)), (f1, f2)
+    weight = case.n_fluid * 1000 * dp**3 * 9.81  # the column's, 62 N: the tank carries it at t = 0
+    assert f1[0, 2] == pytest.approx(-weight, rel=0.05), f1[0]
     # the flow gauge on the cut: particles pass it from rank 0's slab into rank 1's; the volume counted is
     # whole particles (dp^3 each), the same on both runs (checked above), and grows
     _, _, fl = _csv_rows(two / "flow_cut.csv")
@@ -535,7 +543,7 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
         pa, da = read_vtu(a / last / f"{last}_{piece}.vtu")
         pb, db = read_vtu(b / last / f"{last}_{piece}.vtu")
         assert np.array_equal(pa, pb) and all(np.array_equal(da[k], db[k]) for k in da)
-    for name in ("gauge_column.csv", "track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv"):
+    for name in ("gauge_column.csv", "track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv", "force_tank.csv"):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     assert (a / "dam-break-3d.pvd").read_text() == (b / "dam-break-3d.pvd").read_text()
     assert len(list(b.glob("ckpt_*.mpi.json"))) == 2 and len(list(b.glob("ckpt_*.rank*.h5"))) == 4

@@ -11,7 +11,7 @@ from shoal.cases import still_water_2d
 from shoal.cli import main
 from shoal.errors import InputError
 from shoal.post import mean_flow, parse_plane, plot_plane, plot_tracks, post, run_info, surface_levels
-from shoal.probes import FlowGauge, MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
+from shoal.probes import FlowGauge, ForceGauge, MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -32,7 +32,7 @@ def run_dir(tmp_path_factory):
         RunupGauge(name="r", x0=0.0, x1=0.8, interval=0.01),
         TestPoints(name="tank", lo=(0.1, 0, 0.02), hi=(0.7, 0, 0.5), counts=(7, 1, 13), interval=0.01),
         Tracker(name="t", start=[(0.4, 0, 0.2), (0.1, 0, 0.1)], interval=0.01),
-        FlowGauge(name="f", at=0.4, interval=0.01)]})
+        FlowGauge(name="f", at=0.4, interval=0.01), ForceGauge(name="bed", solid="tank", interval=0.01)]})
     out = tmp_path_factory.mktemp("post") / "run"
     shoal.run_case(case, out, plot=False)
     return out
@@ -48,7 +48,7 @@ def test_post_without_selector_makes_every_plot(run_dir, tmp_path, capsys):
     rc, out, err = _run(["post", str(run_dir), "--out", str(tmp_path / "all")], capsys)
     assert rc == 0, err
     names = sorted(p.name for p in (tmp_path / "all").iterdir())
-    assert names == sorted(["gauge_g1.png", "maxz_m.png", "runup_r.png", "probe_mid.png", "track_t.png", "flow_f.png",
+    assert names == sorted(["gauge_g1.png", "maxz_m.png", "runup_r.png", "probe_mid.png", "track_t.png", "flow_f.png", "force_bed.png",
                             "meanflow_tank_section.png", "meanflow_tank_setup.png", "meanflow_tank_profiles.png",
                             "plane_y0_t0.1.png"])
     assert all(_is_png(tmp_path / "all" / n) for n in names)
@@ -58,7 +58,7 @@ def test_post_without_selector_makes_every_plot(run_dir, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("selector, expect", [
-    (["--gauges"], {"gauge_g1.png", "maxz_m.png", "runup_r.png", "probe_mid.png", "flow_f.png"}),
+    (["--gauges"], {"gauge_g1.png", "maxz_m.png", "runup_r.png", "probe_mid.png", "flow_f.png", "force_bed.png"}),
     (["--mean-flow", "--start", "0.02"], {"meanflow_tank_section.png", "meanflow_tank_setup.png",
                                           "meanflow_tank_profiles.png"}),
     (["--tracks"], {"track_t.png"}),

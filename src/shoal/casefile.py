@@ -27,10 +27,10 @@ from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeri
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
            "time_series": TimeSeriesMotion}
-from .probes import FlowGauge, MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
+from .probes import FlowGauge, ForceGauge, MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
 
 PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker, "maxz": MaxZGauge,
-          "runup": RunupGauge, "flow": FlowGauge}
+          "runup": RunupGauge, "flow": FlowGauge, "force": ForceGauge}
 _TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
 
 
@@ -233,6 +233,7 @@ TABLE_DOCS = {
     ("probes", "landward"): '"+x" or "-x": which way the beach rises',
     ("probes", "axis"): 'the flow gauge\'s section is the plane axis = at ("x", "y" or "z")',
     ("probes", "at"): "position of the flow gauge's section along its axis [m]",
+    ("probes", "solid"): "name of the solid whose hydrodynamic force the force gauge measures",
     ("damping", "rate"): "damping rate [1/s]: velocity x max(1 - dt rate f^2, 0)",
     ("motions", "start"): "start time [s]",
     ("checkpoint", "interval"): "simulated time between checkpoints [s] (0 = none)",

@@ -85,7 +85,7 @@ def probe_record_values(case, spec):
         return 2, 0
     if spec.type == "runup":
         return 4, 0
-    if spec.type == "flow":
+    if spec.type in ("flow", "force"):
         return 4, 0
     return 0, 0  # trackers write their rows to the CSV only
 
@@ -157,6 +157,14 @@ def check_probes(case, n_particles):
                     if k != a and pr.hi[k] == pr.lo[k]:
                         raise InputError(f"{where}: lo[{k}] = hi[{k}] = {pr.lo[k]:g} m: the section has no extent in "
                                          f"{'xyz'[k]}; give hi[{k}] > lo[{k}], or leave lo and hi out")
+        elif pr.type == "force":
+            names = [s.name for s in case.solids]
+            if pr.solid not in names:
+                raise InputError(f"{where}: solid = {pr.solid!r} is none of the case's solids; allowed: "
+                                 + ", ".join(repr(n) for n in names))
+            if case.solids[names.index(pr.solid)].boundary != "dynamic":
+                raise InputError(f"{where}: solid {pr.solid!r} has repulsive (Monaghan-Kajtar) boundary particles; "
+                                 "force gauges measure solids of dynamic boundary particles (boundary = 'dynamic')")
         elif pr.type == "runup":
             if pr.x1 < lo[0] or pr.x0 > hi[0] or (case.dim == 3 and outside((0.0, pr.y, 0.0), (1,))):
                 raise InputError(f"{where}: x0 .. x1 = {pr.x0:g} .. {pr.x1:g} m"

@@ -108,6 +108,12 @@ class Model:
         """h = coef_h sqrt(dim) dp [m] (DualSPHysics's convention)."""
         return options.coef_h * math.sqrt(dim) * float(dp)
 
+    body_of = None
+    """(n_ids,) int32: the solid (index in the case's `solids`) of each particle id, -1 for fluid; set by
+    `shoal.runner.build_model` (a Model built from bare arrays has none: no force gauges)."""
+    body_names = None
+    """Names of the case's solids, in the order of `body_of`'s indices."""
+
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
                  velocities=None, motions=None, motion_of=None, periodic=(), planes=(), symmetry_y=None,
@@ -573,6 +579,39 @@ class Model:
         pos, kinds, idp = self.owned_particles()
         fluid = kinds == FLUID
         return nearest_particles(pos[fluid], idp[fluid], points)[1]
+
+    def wall_forces(self):
+        """The force [N; 2D: N/m] the fluid exerts on each dynamic boundary particle now
+        (`shoal.physics.forces`; 0 on fluid and repulsive particles).
+
+        Returns
+        -------
+        forces : ndarray, shape (N, 3)
+            World components, float64, of the particles `owned_particles` gives (in its order).
+        ids : ndarray, shape (N,)
+            Their ids.
+        """
+        b, n, P = self.backend, self.n, self.P
+        if getattr(self, "_force", None) is None or self._force.shape[0] < n:
+            self._force = b.zeros((max(n, 1), self.dim), self.dtype)
+        b.timed(b.pr2, n, (self.rho, self.pr2, P))
+        b.timed(b.wall_force, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
+                                  self.grid.cell_start, self.grid.gdims_arr, P, self.vwall, self._force))
+        f = self.host(self._force, 0, n).astype(np.float64)
+        out = np.zeros((n, 3))
+        out[:, [0, 1, 2] if self.dim == 3 else [0, 2]] = f
+        return out[self._owned_rows()], self.host(self.idp)[self._owned_rows()]
+
+    def _owned_rows(self):
+        """Rows of the active particles this process measures (all of them; under MPI the owned)."""
+        return slice(None)
+
+    def body_force(self, body):
+        """Total force [N; 2D: N/m] of the fluid on the solid numbered `body` (the case's `solids`
+        order; `body_of` maps each particle id to its solid, -1 for fluid): the sum of `wall_forces`
+        over its particles."""
+        f, ids = self.wall_forces()
+        return f[self.body_of[ids] == body].sum(axis=0)
 
     @property
     def particle_volume(self):

@@ -43,7 +43,7 @@ from .errors import InputError
 __all__ = ["post", "plot_gauges", "plot_mean_flow", "plot_tracks", "plot_plane", "mean_flow", "parse_plane",
            "surface_levels", "run_info"]
 
-GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv", "flow_*.csv")
+GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv", "flow_*.csv", "force_*.csv")
 _UNITS = {"level": "free-surface elevation [m]", "zmax": "highest fluid particle z [m]",
           "velocity": "velocity [m/s]", "p": "pressure [Pa]", "rho": "density [kg/m$^3$]",
           "position": "position of the highest particle [m]"}
@@ -155,6 +155,10 @@ def _groups(kind, header, spec, dim=None):
         if pos:
             out.append((_UNITS["position"], pos))
         return out
+    if kind == "force":
+        unit = "N/m (per metre of width)" if dim == 2 else "N"
+        comps = [(cols[c], c) for c in ("fx", "fy", "fz") if c in cols and not (c == "fy" and dim == 2)]
+        return [(f"force on {(spec or {}).get('solid', 'the solid')} [{unit}]", comps)] if comps else []
     if kind == "flow":
         per = " per metre of width" if dim == 2 else ""
         vol, rate = ("m$^2$", "m$^2$/s") if dim == 2 else ("m$^3$", "m$^3$/s")
@@ -832,7 +836,7 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
         raise InputError(f"{run_dir} holds no snapshots (.pvd + .vtu) for --isosurface")
     if isosurface and not any(chosen.values()):
         chosen = {k: False for k in chosen}  # only the meshes
-    what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv or flow_*.csv files",
+    what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv, flow_*.csv or force_*.csv files",
             "mean_flow": "testpoints_*.nc test-point grids", "tracks": "track_*.csv files",
             "plane": "snapshots (.pvd + .vtu)"}
     if any(chosen.values()) or isosurface:

@@ -80,11 +80,14 @@ def build_model(case, backend="cpu"):
     cls = Model
     if world() is not None:  # under mpiexec with several ranks: this rank's slab (shoal.parallel)
         from .parallel.model import DistributedModel as cls
-    return cls(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
-                 options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
-                 surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
-                 periodic=tuple(case.domain.periodic) if case.domain else (),
-                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
+    model = cls(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
+                options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
+                surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
+                periodic=tuple(case.domain.periodic) if case.domain else (),
+                planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
+    model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges
+    model.body_names = [s.name for s in case.solids]
+    return model
 
 
 def run_summary(case, model):

@@ -841,6 +841,13 @@ class DistributedModel(Model):
         out = np.where(d2 == best, ids, np.iinfo(np.int64).max).min(axis=0)
         return np.where(np.isfinite(best), out, -1)
 
+    def _owned_rows(self):
+        return self.owned
+
+    def body_force(self, body):
+        """The force on solid `body` summed over every rank's owned particles (collective)."""
+        return np.asarray(self.allreduce(super().body_force(body), "sum"), float)
+
     @property
     def n_ids(self):
         """Particle ids of the whole case (0 .. n_global - 1)."""

@@ -13,6 +13,7 @@ from types import SimpleNamespace
 from ..neighbours.gather import make_gather, make_point_gather
 from .density_diffusion import make_density_diffusion
 from .eos import make_eos
+from .forces import make_wall_force
 from .filters import make_filters
 from .kernels import make_kernels
 from .rates import make_rates
@@ -89,6 +90,7 @@ def build_physics(jit, spec, target="cpu"):
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_velocity = make_wall_velocity(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_pressure = make_wall_pressure(j, spec, (w, grad_factor), pressure, make_gather, unpack)
+    particle_wall_force = make_wall_force(j, spec, (w, grad_factor), viscous, make_gather, unpack)
     from ..probes.interpolate import make_probe
 
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
@@ -98,6 +100,7 @@ def build_physics(jit, spec, target="cpu"):
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
                            particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
-                           particle_wall_pressure=particle_wall_pressure, probe=probe, free_surface=free_surface, wet_walls=wet_walls,
+                           particle_wall_pressure=particle_wall_pressure, particle_wall_force=particle_wall_force,
+                           probe=probe, free_surface=free_surface, wet_walls=wet_walls,
                            named_jit=j,
                            unpack=unpack)

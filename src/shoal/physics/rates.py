@@ -31,6 +31,44 @@ The time-step limit needs max_j |h v_ij . r_ij / (r_ij^2 + eta^2)|
 from .spec import FLUID, REPULSIVE
 
 
+def make_tensile(jit, spec, w):
+    """Return ``(tensile_coef, tensile_pair)`` of the Monaghan (2000) tensile correction:
+    ``tensile_coef(pr2)`` = eps p/rho^2 (eps = 0.01 under compression, -0.2 under tension) of one
+    particle, and ``tensile_pair(q, ta, tb, P)`` = R_ab = (W(q) / W(dp))^4 (eps_a p_a/rho_a^2 +
+    eps_b p_b/rho_b^2), added to the pressure factor of a pair."""
+    F = spec.float_type
+    zero = F(0.0)
+    t_pos, t_neg = F(0.01), F(-0.2)
+
+    @jit
+    def tensile_coef(pr2):
+        return pr2 * (t_pos if pr2 > zero else t_neg)
+
+    @jit
+    def tensile_pair(q, ta, tb, P):
+        wq = w(q, P) * P.inv_wdp
+        wq2 = wq * wq
+        return wq2 * wq2 * (ta + tb)
+
+    return tensile_coef, tensile_pair
+
+
+def make_store(jit, spec):
+    """Return ``store(out, i, c, x, y, z)``: out[i] = c (x, y, z) in the stored components ((x, z) in 2D)."""
+    dim = spec.dim
+
+    @jit
+    def store(out, i, c, x, y, z):
+        out[i, 0] = c * x
+        if dim == 3:
+            out[i, 1] = c * y
+            out[i, 2] = c * z
+        else:
+            out[i, 1] = c * z
+
+    return store
+
+
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack, plane_accel=None):
     """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
     grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable, vwall)``, which writes particle i's rates.
@@ -60,7 +98,8 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     no_slip = spec.no_slip
     wall_pressure = spec.wall_pressure
     two, halfq = F(2.0), F(0.5)
-    t_pos, t_neg = F(0.01), F(-0.2)
+    tensile_coef, tensile_pair = make_tensile(jit, spec, w)
+    store = make_store(jit, spec)
 
     @jit
     def fluid_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
@@ -103,10 +142,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         pr2j = pr2[j]
         prs = pr2i + pr2j
         if tensile:
-            wq = w(q, P) * P.inv_wdp
-            wq2 = wq * wq
-            tj = pr2j * (t_pos if pr2j > zero else t_neg)
-            prs += wq2 * wq2 * (ti + tj)
+            prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
         # viscous term: against a boundary particle, its no-slip velocity when enabled (`no_slip`)
         wx, wy, wz, vdotr_v = ux, uy, uz, vdotr
         if no_slip:
@@ -181,7 +217,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         data = (vel, rho, pr2, kind, tau, vwall)
         if kind[i] == FLUID:
             pr2i = pr2[i]
-            ti = pr2i * (t_pos if pr2i > zero else t_neg)
+            ti = tensile_coef(pr2i)
             if use_sps:
                 if dim == 3:
                     own = (vix, viy, viz, rho[i], pr2i, ti, tau[i, 0], tau[i, 1], tau[i, 2], tau[i, 3], tau[i, 4],
@@ -207,12 +243,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             drho[i] = dr
             vmax[i] = vm
             if use_xsph:
-                xsph[i, 0] = P.xsph_eps * xx
-                if dim == 3:
-                    xsph[i, 1] = P.xsph_eps * xy
-                    xsph[i, 2] = P.xsph_eps * xz
-                else:
-                    xsph[i, 1] = P.xsph_eps * xz
+                store(xsph, i, P.xsph_eps, xx, xy, xz)
         elif use_mk and kind[i] >= REPULSIVE:
             for d in range(dim):
                 ace[i, d] = zero

@@ -23,7 +23,10 @@ flushed as it goes, so a crash loses nothing already measured):
   run-up on a beach, ``runup_<name>.csv``;
 * `FlowGauge`: the volume of water that has passed a cross-section and the
   flow rate through it (DualSPHysics's FlowTool), ``flow_<name>.csv``
-  (`shoal.probes.flow`).
+  (`shoal.probes.flow`);
+* `ForceGauge`: the hydrodynamic force of the fluid on a solid
+  (DualSPHysics's ComputeForces), ``force_<name>.csv``
+  (`shoal.physics.forces`).
 
 The max-z and run-up gauges read particle centres, as DualSPHysics's
 GaugeMaxZ does: in still water the top particles sit dp/2 below the free
@@ -181,8 +184,22 @@ class FlowGauge(Spec):
         return self
 
 
-AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge, FlowGauge],
-                     Field(discriminator="type")]
+class ForceGauge(Spec):
+    """The force [N] of the fluid on the solid named `solid` (one of the case's
+    `solids`, with dynamic boundary particles), every `interval` s, written to
+    ``force_<name>.csv`` (time, fx, fy, fz): the sum over the solid's boundary
+    particles of the force each gets from its fluid neighbours by the momentum
+    equation's pair terms (pressure and viscosity; `shoal.physics.forces`),
+    DualSPHysics's ComputeForces. 2D: per metre of width [N/m], fy = 0."""
+
+    type: Literal["force"] = "force"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    solid: Annotated[str, Field(min_length=1)]
+    interval: PositiveReal
+
+
+AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge, FlowGauge,
+                           ForceGauge], Field(discriminator="type")]
 
 
 def surface_level(z, s, threshold=0.5):
@@ -211,6 +228,8 @@ def make_recorder(spec, out_dir, dp, model):
         from .flow import FlowRecorder
 
         return FlowRecorder(spec, out_dir, model)
+    if isinstance(spec, ForceGauge):
+        return ForceRecorder(spec, out_dir, model)
     return ProbeRecorder(spec, out_dir, dp)
 
 
@@ -459,6 +478,36 @@ def highest_fluid(positions, kinds, dim, spec, tie=0.0, zmax=None):
             return zmax, nan, nan
         k = int(top[0])
     return zmax, float(cand[k, 0]), float(cand[k, 1])
+
+
+class ForceRecorder:
+    """Samples a `ForceGauge` (`Model.body_force`: a pass over the boundary particles on the active
+    backend; under MPI summed over the ranks) and appends time, fx, fy, fz to its CSV."""
+
+    def __init__(self, spec, out_dir, model):
+        from ..errors import InputError
+
+        self.spec = spec
+        names = getattr(model, "body_names", None)
+        if model.body_of is None or not names:
+            raise InputError(f"force gauge {spec.name!r}: the model was not built from a case (no solids to "
+                             "measure); use shoal.runner.build_model")
+        self.body = names.index(spec.solid)
+        self.path = Path(out_dir) / f"force_{spec.name}.csv"
+        self.file = open(self.path, "w", newline="")
+        self.writer = csv.writer(self.file)
+        self.writer.writerow(["time", "fx", "fy", "fz"])
+        self.rows = []
+
+    def __call__(self, sim):
+        f = sim.model.body_force(self.body)
+        row = [sim.time, *map(float, f)]
+        self.rows.append(row)
+        self.writer.writerow([f"{v:.9g}" for v in row])
+        self.file.flush()
+
+    def close(self):
+        self.file.close()
 
 
 class MaxZRecorder:

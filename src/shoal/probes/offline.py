@@ -64,6 +64,8 @@ def model_from_snapshot(case, path, backend="cpu"):
         model.rho.copy_to_device(rho)
         model.idp.copy_to_device(ids)
     model.sort()
+    model.body_of = case.particles().body.astype(np.int32)  # ids are the case's particle numbers
+    model.body_names = [s.name for s in case.solids]
     return model
 
 
