@@ -299,11 +299,12 @@ def test_flow_gauge_matches_cpu():
 
 
 @needs_cuda
-@pytest.mark.parametrize("opts", [{}, {"no_slip": True, "viscosity": "laminar", "nu": 1e-3}])
+@pytest.mark.parametrize("opts", ([] if SIMULATOR else [{}]) + [{"no_slip": True, "viscosity": "laminar", "nu": 1e-3}])
 def test_wall_forces_match_cpu(opts):
     """The fluid's force on each boundary particle (`shoal.physics.forces`, a force gauge's sum) is the
     CPU's on the CUDA backend, with the artificial viscosity and with no-slip walls and laminar
-    viscosity, within 1e-9 of the largest."""
+    viscosity, within 1e-9 of the largest (under the simulator the second only: it takes every term the
+    first does but the artificial viscosity, which the rates' parity tests cover)."""
     cpu, gpu = _pair("float64", **opts)
     _random_fluid_velocity(cpu, gpu, 6)
     out = []
