@@ -625,7 +625,7 @@ class Model:
 
     def owned_density(self):
         """(N,) float64 densities of the particles `owned_particles` gives."""
-        return self.host(self.rho).astype(np.float64)
+        return self.host(self.rho)[self._owned_rows()].astype(np.float64)
 
     def flow_sample(self, spec, prev):
         """One sample of a `FlowGauge` `spec` (`shoal.probes.flow.flow_measure` over the fluid).

@@ -834,12 +834,10 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
     chosen = {"gauges": gauges, "mean_flow": mean_flow, "tracks": tracks, "plane": plane is not None}
     if isosurface and not have["plane"]:
         raise InputError(f"{run_dir} holds no snapshots (.pvd + .vtu) for --isosurface")
-    if isosurface and not any(chosen.values()):
-        chosen = {k: False for k in chosen}  # only the meshes
     what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv, flow_*.csv or force_*.csv files",
             "mean_flow": "testpoints_*.nc test-point grids", "tracks": "track_*.csv files",
             "plane": "snapshots (.pvd + .vtu)"}
-    if any(chosen.values()) or isosurface:
+    if any(chosen.values()) or isosurface:  # selectors (--isosurface alone: the meshes only)
         for k, on in chosen.items():
             if on and not have[k]:
                 raise InputError(f"{run_dir} holds no {what[k]} for --{k.replace('_', '-')}")

@@ -853,9 +853,6 @@ class DistributedModel(Model):
         """Particle ids of the whole case (0 .. n_global - 1)."""
         return self.n_global
 
-    def owned_density(self):
-        return self.host(self.rho)[self.owned].astype(np.float64)
-
     def flow_sample(self, spec, prev):
         """A `FlowGauge` sample over every rank's fluid, the same on every rank (collective): each
         rank measures its owned particles against the whole-case `prev`; the coordinates by id are
