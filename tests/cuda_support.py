@@ -40,14 +40,18 @@ needs_cuda = pytest.mark.skipif(not HAVE_CUDA, reason="needs a GPU or NUMBA_ENAB
 def run_module_under_simulator(test_file, runner_name, timeout=1800):
     """Run `test_file` (minus `runner_name`) under the simulator in a child pytest.
 
-    The parity module takes about 8 minutes under the simulator on an idle 2-core machine and over 10
-    when the cores are shared, so the child gets 30 minutes before it counts as failed."""
+    The parity module takes about 2 minutes under the simulator on an idle 2-core machine (with the
+    short GIL switch interval of conftest.py; 5 minutes without) and 3 when the cores are shared; the
+    child gets 30 minutes before it counts as failed."""
     if HAVE_CUDA:
         pytest.skip("CUDA (or the simulator) is available here: the tests run in this process")
     import shoal
 
     src = str(Path(shoal.__file__).resolve().parents[1])
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
+    import numba
+
+    # the child shares the cores as this process does (one thread per xdist worker: conftest.py)
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", NUMBA_NUM_THREADS=str(numba.get_num_threads()))
     env["PYTHONPATH"] = os.pathsep.join([src] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     here = Path(test_file).resolve()
     proc = subprocess.run(

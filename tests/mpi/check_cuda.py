@@ -18,6 +18,7 @@ and the GPU assignment.
 """
 
 import json
+import os
 import sys
 
 import numpy as np
@@ -28,6 +29,9 @@ from shoal.cases import dam_break_2d
 from shoal.parallel.model import BOUNDARY_WEIGHT, DistributedModel
 from shoal.physics.spec import FLUID
 from shoal.runner import build_model
+
+if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1":
+    sys.setswitchinterval(1e-4)  # the simulator's launcher busy-polls its threads: see tests/conftest.py
 from shoal.simulation import Simulation
 
 A = 0.146
