@@ -48,6 +48,11 @@ if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1":
     import sys
 
     sys.setswitchinterval(1e-4)
+    if os.environ.get("SHOAL_CUDA_KERNEL_LOG"):  # log the kernel launches (tests/cuda_kernels.py)
+        sys.path.insert(0, os.path.dirname(__file__))
+        import cuda_kernels
+
+        cuda_kernels.record(os.environ["SHOAL_CUDA_KERNEL_LOG"])
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402

@@ -37,12 +37,13 @@ needs_cuda = pytest.mark.skipif(not HAVE_CUDA, reason="needs a GPU or NUMBA_ENAB
                                 "simulator-run test runs it under the simulator in a child process)")
 
 
-def run_module_under_simulator(test_file, runner_name, timeout=1800):
+def run_module_under_simulator(test_file, runner_name, timeout=1800, kernel_log=None):
     """Run `test_file` (minus `runner_name`) under the simulator in a child pytest.
 
     The parity module takes about 2 minutes under the simulator on an idle 2-core machine (with the
     short GIL switch interval of conftest.py; 5 minutes without) and 3 when the cores are shared; the
-    child gets 30 minutes before it counts as failed."""
+    child gets 30 minutes before it counts as failed. With `kernel_log` (a path) the child logs
+    every kernel launch there (`cuda_kernels.record`)."""
     if HAVE_CUDA:
         pytest.skip("CUDA (or the simulator) is available here: the tests run in this process")
     import shoal
@@ -52,6 +53,8 @@ def run_module_under_simulator(test_file, runner_name, timeout=1800):
 
     # the child shares the cores as this process does (one thread per xdist worker: conftest.py)
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", NUMBA_NUM_THREADS=str(numba.get_num_threads()))
+    if kernel_log:
+        env["SHOAL_CUDA_KERNEL_LOG"] = str(kernel_log)
     env["PYTHONPATH"] = os.pathsep.join([src] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
     here = Path(test_file).resolve()
     proc = subprocess.run(

@@ -4,7 +4,7 @@ On a machine with a GPU these run on it; elsewhere `test_simulator_run` runs
 them under Numba's CUDA simulator in a child process (slowly, so the cases
 are tiny: a 2D dam break of a few hundred particles). Tolerances: float64
 rates agree to 1e-9 relative (only summation order and fused multiply-adds
-differ); float32 to 1e-4 relative; a 50-step float32 run (20 steps under
+differ); float32 to 1e-4 relative; a 50-step float32 run (10 steps under
 the simulator, where a step of these few hundred particles takes seconds) to
 1e-5 m in position (dp = 37 mm) and 1e-3 relative in density.
 """
@@ -20,12 +20,34 @@ from shoal.simulation import Simulation
 
 A = 0.146
 # steps of the multi-step runs: fewer under the simulator (it runs every GPU thread as Python)
-STEPS = 20 if SIMULATOR else 50
+STEPS = 10 if SIMULATOR else 50
 
 
-def test_simulator_run():
-    """Run this module under the CUDA simulator in a child process."""
-    run_module_under_simulator(__file__, "test_simulator_run")
+def test_simulator_run(tmp_path):
+    """Run this module under the CUDA simulator in a child process, logging its kernel launches; then
+    compile each launched kernel, and every loop kernel of the built-in cases' scheme specialisations,
+    to PTX for an H100/H200 (compute capability 9.0) with NVVM (`cuda_kernels`): what the simulator
+    cannot check, that the kernels compile for a real GPU (a packed float32 parameter record, whose
+    float64 fields were unaligned, compiled for the simulator and not for a GPU)."""
+    log = tmp_path / "kernels.pkl"
+    run_module_under_simulator(__file__, "test_simulator_run", kernel_log=log)
+    import cuda_kernels
+
+    try:
+        from numba.cuda.cudadrv.nvvm import NVVM
+
+        NVVM()
+    except Exception as exc:  # the toolkit wheels of numba-cuda[cu13] (the test extra) are missing
+        pytest.skip(f"NVVM not found, the PTX compile check is skipped: {exc}")
+    specs = cuda_kernels.builtin_specs()
+    done, missing = cuda_kernels.compile_logged(log, (9, 0), extra_specs=specs)
+    print(f"compiled {len(done)} kernels to PTX for sm_90 in {sum(t for _, t in done):.1f} s "
+          f"({len(specs)} built-in specialisations); the rates kernels in machine code:")
+    for label, _ in done:
+        if "registers" in label:
+            print("  " + label)
+    assert not missing, f"loops never launched in their precision by this module: {missing}"
+    assert len(done) > 100
 
 
 def _by_id(model, array):
@@ -82,6 +104,44 @@ def test_fifty_step_dam_break_matches_cpu():
 
 
 @needs_cuda
+@pytest.mark.parametrize("integrator,opts", [
+    ("symplectic", dict(turbulence="sps", xsph=0.5, shepard_every=2, wall_pressure="adami")),
+    ("predictor_corrector", dict(kernel="cubic", tensile_correction=True, turbulence="sps", mls_every=2, no_slip=True)),
+])
+def test_float32_schemes_match_cpu(integrator, opts):
+    """The float32 kernels of the other integrators, with SPS, XSPH, the density filters, Adami walls,
+    the tensile correction and a damping zone, stay with the CPU's for a few steps (float32: the
+    tolerances of `test_fifty_step_dam_break_matches_cpu`). Their argument types also feed the
+    PTX compile check of `test_simulator_run` for the built-in cases' float32 specialisations."""
+    from shoal.case import DampingZone
+
+    cpu, gpu = _pair("float32", ndp=4, integrator=integrator, **opts)
+    runs = []
+    for m in (cpu, gpu):
+        sim = Simulation(m, 1.0)
+        sim.damping = [DampingZone(start=(0.5 * A, 0, 0), end=(A, 0, 0), rate=5.0)]
+        runs.append(sim.run(max_steps=4))
+    assert runs[0].time == pytest.approx(runs[1].time, rel=1e-5)
+    dpos = np.max(np.abs(_by_id(cpu, cpu.pos) - _by_id(gpu, gpu.pos)))
+    drho = np.max(np.abs(_by_id(cpu, cpu.rho) - _by_id(gpu, gpu.rho))) / 1000.0
+    assert np.max(np.abs(_by_id(cpu, cpu.vel))) > 0.005
+    assert dpos < 1e-5
+    assert drho < 1e-3
+    # a probe and the walls' forces in float32
+    pts = np.array([[0.3 * A, 0.0, 0.2 * A], [0.6 * A, 0.0, 0.1 * A]])
+    sc, sg = (m.sample(pts) for m in (cpu, gpu))
+    assert np.all(np.isfinite(sc["pressure"])) and np.max(sc["pressure"]) > 0
+    np.testing.assert_allclose(sg["pressure"], sc["pressure"], rtol=1e-3)
+    np.testing.assert_allclose(sg["velocity"], sc["velocity"], atol=1e-4)
+    forces = []
+    for m in (cpu, gpu):
+        f, ids = m.wall_forces()
+        forces.append(f[np.argsort(ids)])
+    assert np.max(np.abs(forces[0])) > 0
+    assert np.max(np.abs(forces[0] - forces[1])) < 1e-3 * np.max(np.abs(forces[0]))
+
+
+@needs_cuda
 def test_moving_wall_inflow_matches_cpu():
     """A wall pushed at constant speed (the tidal-bore inflow) moves the same on both backends."""
     from shoal.case import Case, Fluid, FluidRegion, Solid
@@ -111,8 +171,10 @@ def test_moving_wall_inflow_matches_cpu():
 
 
 @needs_cuda
-def test_periodic_rates_match_cpu():
-    """The wrapped (periodic) gather gives the CPU's rates on the CUDA backend."""
+@pytest.mark.parametrize("precision,tol", [("float64", 1e-9), ("float32", 1e-4)])
+def test_periodic_rates_match_cpu(precision, tol):
+    """The wrapped (periodic) gather gives the CPU's rates on the CUDA backend, and three steps (the
+    periodic wrap of the positions) the CPU's positions."""
     from shoal.model import Model
 
     rng = np.random.default_rng(5)
@@ -123,7 +185,7 @@ def test_periodic_rates_match_cpu():
     g[:, 0] %= 10 * dp
     v = np.zeros_like(g)
     v[:, [0, 2]] = 0.1 * rng.standard_normal((len(g), 2))
-    common = dict(dp=dp, dim=2, options=SPHOptions(precision="float64"), gravity=(0, 0, 0), u_max=1.0,
+    common = dict(dp=dp, dim=2, options=SPHOptions(precision=precision), gravity=(0, 0, 0), u_max=1.0,
                   domain=((0, 0, -0.05), (10 * dp, 0, 0.11)), periodic=("x",), velocities=v)
     cpu = Model(g, np.zeros(len(g), np.int8), backend="cpu", **common)
     gpu = Model(g, np.zeros(len(g), np.int8), backend="cuda", **common)
@@ -132,7 +194,44 @@ def test_periodic_rates_match_cpu():
         m.compute_rates()
     for name in ("ace", "drho"):
         a, b = _by_id(cpu, getattr(cpu, name)), _by_id(gpu, getattr(gpu, name))
-        assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a))
+        assert np.max(np.abs(a - b)) <= tol * np.max(np.abs(a))
+    for m in (cpu, gpu):
+        Simulation(m, 1.0).run(max_steps=3)
+    # positions are float64 in both precisions; float32 rates differ in the last bits
+    assert np.max(np.abs(_by_id(cpu, cpu.pos) - _by_id(gpu, gpu.pos))) < (1e-12 if precision == "float64" else 1e-8)
+
+
+@needs_cuda
+@pytest.mark.parametrize("kind", ["shepard", "mls"])
+def test_density_filters_and_damping_match_cpu(kind):
+    """The Shepard and MLS density filters and a damping zone's velocity decay give the CPU's
+    densities and velocities on the CUDA backend (float64: to round-off)."""
+    from shoal.case import DampingZone
+
+    cpu, gpu = _pair("float64")
+    rng = np.random.default_rng(7)
+    fluid = cpu.host(cpu.kind) == 0
+    rho = cpu.host(cpu.rho).copy()
+    rho[fluid] *= 1 + 0.01 * rng.standard_normal(int(fluid.sum()))  # a noisy field for the filter to smooth
+    v = 0.2 * rng.standard_normal(cpu.vel.shape)
+    v[~fluid] = 0
+    zone = DampingZone(start=(0.5 * A, 0, 0), end=(A, 0, 0), rate=50.0)
+    for m in (cpu, gpu):
+        if m is cpu:
+            m.rho[:] = rho
+            m.vel[:] = v
+        else:
+            m.rho.copy_to_device(rho)
+            m.vel.copy_to_device(v)
+        m.sort()
+        m.apply_filter(kind)
+        m.apply_damping([zone], 0.01)
+    a, b = _by_id(cpu, cpu.rho), _by_id(gpu, gpu.rho)
+    assert np.max(np.abs(a[fluid] - rho[fluid])) > 1.0  # the filter did change the densities
+    assert np.max(np.abs(a - b)) <= 1e-9 * 1000.0
+    a, b = _by_id(cpu, cpu.vel), _by_id(gpu, gpu.vel)
+    assert np.sum(np.any(a != v, axis=1)) > 0  # some particles are in the zone
+    assert np.max(np.abs(a - b)) <= 1e-12
 
 
 @needs_cuda

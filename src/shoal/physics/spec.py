@@ -127,11 +127,16 @@ def params_dtype(spec):
     Kernels receive the constants as a one-element record array (Numba's
     parallel loops accept arrays, not named tuples, as loop arguments) and
     turn it into a `Params` tuple with `make_unpack`.
+
+    The fields are aligned (C struct layout, padding before an 8-byte field
+    that follows an odd number of 4-byte ones): Numba's CUDA target refuses
+    to load a record member at an unaligned offset, which a packed float32
+    record has (its first float64 field at byte 100).
     """
     F = spec.float_type
     wide = {"dim": np.int64, "per_len_x": np.float64, "per_len_y": np.float64, "sym_y": np.float64,
             "grid_lo_y": np.float64, "inv_cs": np.float64}
-    return np.dtype([(name, wide.get(name, F)) for name in Params._fields])
+    return np.dtype([(name, wide.get(name, F)) for name in Params._fields], align=True)
 
 
 def params_array(spec, params):
