@@ -39,20 +39,16 @@ if os.environ.get("PYTEST_XDIST_WORKER") and "NUMBA_CACHE_DIR" not in os.environ
     os.environ["NUMBA_CACHE_DIR"] = os.path.join(
         tempfile.gettempdir(), f"shoal-numba-cache-{_uid}-{os.environ['PYTEST_XDIST_WORKER']}")
 
-# Numba's CUDA simulator runs each GPU thread as a Python thread and its launcher
-# busy-polls them; with the default 5 ms GIL switch interval most of a launch is
-# spent waiting for the poller to let go. A 0.1 ms interval made a simulated
-# dam-break step 3.3x faster here (15.5 s -> 4.6 s for 3 steps of 128 particles;
-# 0.03 ms and 1 ms were slower). No effect on Numba's CPU kernels (no GIL).
-if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1":
-    import sys
+# Under Numba's CUDA simulator (child processes of the CUDA tests) shoal runs the barrier-free kernels
+# in one thread and the others on a pool of threads (`shoal.backends.simulator`); the default 5 ms GIL
+# switch interval is then the fastest (parity + grid modules: 27 s, 37 s at 1 ms, 45 s at 0.1 ms).
+if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1" and os.environ.get("SHOAL_CUDA_KERNEL_LOG"):
+    import sys  # log the kernel launches (tests/cuda_kernels.py)
 
-    sys.setswitchinterval(1e-4)
-    if os.environ.get("SHOAL_CUDA_KERNEL_LOG"):  # log the kernel launches (tests/cuda_kernels.py)
-        sys.path.insert(0, os.path.dirname(__file__))
-        import cuda_kernels
+    sys.path.insert(0, os.path.dirname(__file__))
+    import cuda_kernels
 
-        cuda_kernels.record(os.environ["SHOAL_CUDA_KERNEL_LOG"])
+    cuda_kernels.record(os.environ["SHOAL_CUDA_KERNEL_LOG"])
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402

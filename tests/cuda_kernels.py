@@ -166,8 +166,9 @@ def builtin_specs():
     return sorted(specs, key=repr)
 
 
-def compile_logged(path, cc=(9, 0), extra_specs=()):
-    """Compile every kernel logged in `path` (and each loop for `extra_specs`) to PTX for `cc`.
+def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None):
+    """Compile every kernel logged in `path` (and each loop for `extra_specs`: those named in
+    `extra_loops`, default all) to PTX for `cc`.
 
     Returns
     -------
@@ -199,6 +200,8 @@ def compile_logged(path, cc=(9, 0), extra_specs=()):
     missing = []
     for spec in extra_specs:
         for name in PHYSICS_LOOPS:  # the update loops depend on the precision and dimension only
+            if extra_loops is not None and name not in extra_loops:
+                continue
             args = loop_types.get((spec.precision, name))
             if args is None:
                 missing.append(f"{name} [{spec.dim}D {spec.precision}]")

@@ -40,9 +40,10 @@ needs_cuda = pytest.mark.skipif(not HAVE_CUDA, reason="needs a GPU or NUMBA_ENAB
 def run_module_under_simulator(test_file, runner_name, timeout=1800, kernel_log=None):
     """Run `test_file` (minus `runner_name`) under the simulator in a child pytest.
 
-    The parity module takes about 2 minutes under the simulator on an idle 2-core machine (with the
-    short GIL switch interval of conftest.py; 5 minutes without) and 3 when the cores are shared; the
-    child gets 30 minutes before it counts as failed. With `kernel_log` (a path) the child logs
+    The parity module takes about 30 s under the simulator on a 2-core machine (its barrier-free
+    kernels run in one thread and the radix sort's on a pool of threads, `shoal.backends.simulator`;
+    about 100 s with the simulator's thread per GPU thread, 5 minutes without a short GIL switch
+    interval either); the child gets 30 minutes before it counts as failed. With `kernel_log` (a path) the child logs
     every kernel launch there (`cuda_kernels.record`)."""
     if HAVE_CUDA:
         pytest.skip("CUDA (or the simulator) is available here: the tests run in this process")

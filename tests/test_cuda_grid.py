@@ -175,3 +175,105 @@ def test_empty_and_all_outside():
     with pytest.raises(ValueError, match="block_size"):
         CudaCellGrid(lo, hi, support, 1, 40, block_size=48)
     assert cgrid.nbytes >= 4 * (cgrid.ncell + 2) + 16 * 40
+
+
+@needs_cuda
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # sums of uninitialised arrays
+def test_simulator_threads_share_one_shared_array(monkeypatch):
+    """Under Numba's CUDA simulator a block's threads get one ``cuda.shared.array`` (guarded by
+    `shoal.backends.simulator`): each thread stores t + 1 and sums the array, 528 for 32 threads.
+
+    The simulator's own allocation is an unlocked check-then-set: threads that check before the
+    first one stores get arrays of their own. Here the allocation waits (up to 2 s) for a second
+    thread to arrive in it, to make the race certain rather than a matter of timing: unguarded, two
+    threads then hold different arrays and sum partial ones (seen in a real run as a radix sort that
+    lost particles, 2 runs in 8, and once in 400 launches of this kernel at full speed); guarded, the
+    second thread waits at the lock and finds the first one's array. On a GPU there is no simulator
+    to guard, and the kernel must simply give 528."""
+    import inspect
+    import threading
+
+    from simulator_shared import wrong_sums
+
+    from shoal.backends.simulator import guard_shared_allocation
+
+    if not guard_shared_allocation():
+        assert wrong_sums() == 0
+        return
+    from numba.cuda.simulator import kernelapi
+
+    real = kernelapi.np
+    entered = []
+    second = threading.Event()
+
+    class WaitingEmpty:
+        def __getattr__(self, name):
+            return getattr(real, name)
+
+        @staticmethod
+        def empty(*args, **kw):
+            entered.append(1)
+            if len(entered) >= 2:
+                second.set()
+            second.wait(2.0)  # guarded, no second thread comes (it waits at the lock): go on after 2 s
+            return real.empty(*args, **kw)
+
+    monkeypatch.setattr(kernelapi, "np", WaitingEmpty())
+    assert wrong_sums() == 0
+    assert not second.is_set()  # one thread at a time in the allocation
+    entered.clear()
+    guarded = kernelapi.FakeCUDAShared.array
+    monkeypatch.setattr(kernelapi.FakeCUDAShared, "array", guarded.unguarded)
+    unguarded_wrong = wrong_sums()
+    monkeypatch.setattr(kernelapi.FakeCUDAShared, "array", guarded)
+    print(f"threads with a wrong sum: {unguarded_wrong} of 64 unguarded, 0 guarded")
+    if "lock" not in inspect.getsource(guarded.unguarded).lower():  # numba-cuda's code as of 0.30
+        assert second.is_set() and unguarded_wrong > 0, "two threads in the allocation did not give two arrays"
+
+
+@needs_cuda
+def test_simulator_runs_barrier_free_kernels_in_the_launching_thread():
+    """Under the simulator a kernel marked `barrier_free` runs each block's threads one after the
+    other in the launching thread (`shoal.backends.simulator`), with the indices of a real launch
+    (3 blocks of 32 threads: every element written once by its own thread); a marked kernel that
+    waits at a barrier is refused with a message naming the mark, not run out of order."""
+    import threading
+
+    from simulator_shared import THREADS_SEEN, grid_index, wrongly_marked
+
+    from shoal.backends.simulator import run_barrier_free_blocks
+
+    if not run_barrier_free_blocks():
+        pytest.skip("a GPU: there is no simulator to check")
+    n = 90
+    out = np.full(n, -1, np.int64)
+    dims = np.full((n, 3), -1, np.int64)
+    THREADS_SEEN.clear()
+    grid_index[3, 32](out, dims)
+    np.testing.assert_array_equal(out, np.arange(n))
+    np.testing.assert_array_equal(dims[:, 0], np.arange(n) // 32)
+    np.testing.assert_array_equal(dims[:, 1], np.arange(n) % 32)
+    assert np.all(dims[:, 2] == 32)
+    assert THREADS_SEEN == {threading.get_ident()}
+    with pytest.raises(RuntimeError, match="barrier_free"):
+        wrongly_marked[1, 32](np.zeros(32, np.int64))
+
+
+@needs_cuda
+def test_simulator_pool_runs_barriers_and_reports_a_failing_thread():
+    """Kernels with barriers run on `shoal.backends.simulator`'s pool of threads: a barrier count is
+    right (11 of 32 threads with t % 3 == 0), a thread that fails between two barriers is reported by
+    its index while the block's other threads stop at the barrier instead of waiting for ever, and
+    the pool runs the next launch as before."""
+    from simulator_shared import barrier_count, fails_at, wrong_sums
+
+    from shoal.backends.simulator import run_barrier_free_blocks
+
+    if not run_barrier_free_blocks():
+        pytest.skip("a GPU: there is no simulator to check")
+    out = np.zeros(32, np.int64)
+    barrier_count[1, 32](out)
+    assert np.all(out == 11)
+    with pytest.raises(ValueError, match=r"tid=\[7, 0, 0\] ctaid=\[0, 0, 0\]: thread failed on purpose"):
+        fails_at[1, 32](np.zeros(32, np.int64), 7)
+    assert wrong_sums(blocks=3) == 0

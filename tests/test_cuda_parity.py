@@ -23,14 +23,7 @@ A = 0.146
 STEPS = 10 if SIMULATOR else 50
 
 
-def test_simulator_run(tmp_path):
-    """Run this module under the CUDA simulator in a child process, logging its kernel launches; then
-    compile each launched kernel, and every loop kernel of the built-in cases' scheme specialisations,
-    to PTX for an H100/H200 (compute capability 9.0) with NVVM (`cuda_kernels`): what the simulator
-    cannot check, that the kernels compile for a real GPU (a packed float32 parameter record, whose
-    float64 fields were unaligned, compiled for the simulator and not for a GPU)."""
-    log = tmp_path / "kernels.pkl"
-    run_module_under_simulator(__file__, "test_simulator_run", kernel_log=log)
+def _compile_check(log, extra_loops):
     import cuda_kernels
 
     try:
@@ -40,14 +33,37 @@ def test_simulator_run(tmp_path):
     except Exception as exc:  # the toolkit wheels of numba-cuda[cu13] (the test extra) are missing
         pytest.skip(f"NVVM not found, the PTX compile check is skipped: {exc}")
     specs = cuda_kernels.builtin_specs()
-    done, missing = cuda_kernels.compile_logged(log, (9, 0), extra_specs=specs)
+    done, missing = cuda_kernels.compile_logged(log, (9, 0), extra_specs=specs, extra_loops=extra_loops)
     print(f"compiled {len(done)} kernels to PTX for sm_90 in {sum(t for _, t in done):.1f} s "
           f"({len(specs)} built-in specialisations); the rates kernels in machine code:")
     for label, _ in done:
         if "registers" in label:
             print("  " + label)
     assert not missing, f"loops never launched in their precision by this module: {missing}"
+    return done
+
+
+def test_simulator_run(tmp_path):
+    """Run this module under the CUDA simulator in a child process, logging its kernel launches; then
+    compile each launched kernel, and the `rates` kernel of every built-in case's scheme
+    specialisation, to PTX for an H100/H200 (compute capability 9.0) with NVVM (`cuda_kernels`): what
+    the simulator cannot check, that the kernels compile for a real GPU (a packed float32 parameter
+    record, whose float64 fields were unaligned, compiled for the simulator and not for a GPU). Every
+    loop of every built-in specialisation: `test_every_builtin_loop_compiles_for_a_gpu` (-m validation)."""
+    log = tmp_path / "kernels.pkl"
+    run_module_under_simulator(__file__, "test_simulator_run", kernel_log=log)
+    done = _compile_check(log, extra_loops=("rates",))
     assert len(done) > 100
+
+
+@pytest.mark.validation
+def test_every_builtin_loop_compiles_for_a_gpu(tmp_path):
+    """`test_simulator_run` with every physics loop (not only `rates`) of every built-in case's scheme
+    specialisation compiled for sm_90: 201 kernels, about 100 s on 2 cores (kept out of CI's time)."""
+    log = tmp_path / "kernels.pkl"
+    run_module_under_simulator(__file__, "test_simulator_run", kernel_log=log)
+    done = _compile_check(log, extra_loops=None)
+    assert len(done) > 200
 
 
 def _by_id(model, array):

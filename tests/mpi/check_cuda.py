@@ -30,8 +30,6 @@ from shoal.parallel.model import BOUNDARY_WEIGHT, DistributedModel
 from shoal.physics.spec import FLUID
 from shoal.runner import build_model
 
-if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1":
-    sys.setswitchinterval(1e-4)  # the simulator's launcher busy-polls its threads: see tests/conftest.py
 from shoal.simulation import Simulation
 
 A = 0.146
@@ -110,6 +108,7 @@ if rank == 0:
     res = {
         "n_particles": case.n_particles, "n_ranks": len(parts), "ids_equal": same,
         "ids_unique": bool(len(np.unique(ids)) == len(ids)), "n_ids": int(len(ids)),
+        "ids_missing": np.setdiff1d(rids, ids).tolist(), "ids_doubled": np.unique(ids[1:][ids[1:] == ids[:-1]]).tolist(),
         "steps": [sim.step_count, rsim.step_count], "time": [sim.time, rsim.time],
         "moved": float(np.max(np.abs(rpos - case.particles().positions[rids]))),
         "max_speed": float(np.max(np.linalg.norm(rvel, axis=1))),

@@ -25,10 +25,14 @@ from ..errors import InputError
 from ..physics.spec import FLUID
 from .loops import attach_loops, row_columns
 
+from .simulator import barrier_free, prepare
+
 try:  # a module-level name: the CUDA simulator swaps the global `cuda` inside kernels
     from numba import cuda
 except Exception:  # pragma: no cover - numba-cuda missing
     cuda = None
+else:
+    prepare()  # under the simulator only: see shoal.backends.simulator
 
 THREADS = 128
 
@@ -55,6 +59,7 @@ def cuda_device_jit(fn):
 
 def make_for_each(fn):
     """Return ``run(n, args)``: one thread per particle calls ``fn(i, *args)``."""
+    @barrier_free
     @cuda.jit
     def kernel(n, args):
         i = cuda.grid(1)
@@ -70,6 +75,7 @@ def make_for_each(fn):
 
 
 def _reductions():
+    @barrier_free
     @cuda.jit
     def accel2(n, ace, kind, out):
         i = cuda.grid(1)
@@ -81,6 +87,7 @@ def _reductions():
                 a2 = a2 - a2  # zero in the working precision
             out[i] = a2
 
+    @barrier_free
     @cuda.jit
     def first_bad(n, pos, vel, rho, kind, rho_lo, rho_hi, out):
         # out[0]: smallest bad index (n if none); out[1]: its code
@@ -108,12 +115,14 @@ def _reductions():
 def _row_kernels():
     """Kernels that move rows of particle arrays to and from a float64 buffer (`pack_rows`): one
     thread per row (halos are small; the CUDA simulator runs a Python thread per GPU thread)."""
+    @barrier_free
     @cuda.jit
     def pack_1d(a, rows, k, out, col):
         i = cuda.grid(1)
         if i < k:
             out[i, col] = a[rows[i]]
 
+    @barrier_free
     @cuda.jit
     def pack_2d(a, rows, k, out, col):
         i = cuda.grid(1)
@@ -122,12 +131,14 @@ def _row_kernels():
             for d in range(a.shape[1]):
                 out[i, col + d] = a[r, d]
 
+    @barrier_free
     @cuda.jit
     def unpack_1d(a, buf, rows, k, col):
         i = cuda.grid(1)
         if i < k:
             a[rows[i]] = buf[i, col]
 
+    @barrier_free
     @cuda.jit
     def unpack_2d(a, buf, rows, k, col):
         i = cuda.grid(1)
@@ -136,12 +147,14 @@ def _row_kernels():
             for d in range(a.shape[1]):
                 a[r, d] = buf[i, col + d]
 
+    @barrier_free
     @cuda.jit
     def zero_1d(a, rows, k):
         i = cuda.grid(1)
         if i < k:
             a[rows[i]] = 0
 
+    @barrier_free
     @cuda.jit
     def zero_2d(a, rows, k):
         i = cuda.grid(1)

@@ -46,7 +46,8 @@ from ._checks import check_count, check_dp, check_positive
 
 PAPER_OPTIONS = dict(kernel="wendland", shepard_every=20, density_diffusion="none", alpha=0.1, turbulence="sps")
 """The paper's scheme: Wendland kernel, Shepard filter every 20 steps, SPS turbulence
-(its Monaghan-Kajtar boundaries: ``boundary="repulsive"``, not yet in the solver)."""
+(its Monaghan-Kajtar boundary particles: ``rip_current(boundary="repulsive")``; the default is
+dynamic boundary particles, the DualSPHysics choice)."""
 
 
 def rip_current_bed(crest_x=12.4, slope_start=6.0, bar_height=0.13, bar_length=4.8, bar_slope=1 / 27,
@@ -96,9 +97,8 @@ def rip_current(dp=0.02, crest_depth=0.15, wave_height=0.19, period=1.5, test3=F
         The paper's "test 3*": crest depth 0.10 m and H = 0.15 m (overrides
         `crest_depth` and `wave_height`).
     boundary : {"dynamic", "repulsive"}
-        Wall particles: dynamic layers (runs now) or the paper's
-        Monaghan-Kajtar particles at dp/2 (generated; the force arrives with
-        the boundaries issue).
+        Wall particles: dynamic boundary layers (DualSPHysics's DBC) or the
+        paper's Monaghan-Kajtar repulsive particles at dp/2.
     end_time, output_interval : float
         [s]; the paper averaged after 10 wave periods, around t = 40 s.
     """

@@ -78,7 +78,10 @@ import math
 import numpy as np
 from numba import cuda, int32
 
+from ..backends.simulator import barrier_free, prepare
 from .grid import CellGrid
+
+prepare()  # under the CUDA simulator only: shared arrays one per block, barrier-free kernels in one thread
 
 RADIX_BITS = 4
 RADIX = 1 << RADIX_BITS
@@ -146,6 +149,7 @@ def _kernels(block):
         cuda.syncthreads()
         return tmp[pad(t)], tmp2[32]
 
+    @barrier_free
     @cuda.jit
     def cell_index(pos, n, lo, hi, inv_cs, dims, ncell, out):
         i = cuda.grid(1)
@@ -248,6 +252,7 @@ def _kernels(block):
         if t == 0:
             sums[b] = total
 
+    @barrier_free
     @cuda.jit
     def add_offsets(a, m, sums):
         t = cuda.threadIdx.x
@@ -259,6 +264,7 @@ def _kernels(block):
             if g < m:
                 a[g] += off
 
+    @barrier_free
     @cuda.jit
     def cell_starts(cell, n, ncell2, out):
         c = cuda.grid(1)
@@ -273,18 +279,21 @@ def _kernels(block):
                     hi = mid
             out[c] = lo
 
+    @barrier_free
     @cuda.jit
     def gather_1d(a, perm, n, out):
         k = cuda.grid(1)
         if k < n:
             out[k] = a[perm[k]]
 
+    @barrier_free
     @cuda.jit
     def copy_1d(src, n, dst):
         k = cuda.grid(1)
         if k < n:
             dst[k] = src[k]
 
+    @barrier_free
     @cuda.jit
     def gather_2d(a, perm, n, out):
         e = cuda.grid(1)  # one thread per element: coalesced writes
@@ -294,6 +303,7 @@ def _kernels(block):
             d = e - k * m
             out[k, d] = a[perm[k], d]
 
+    @barrier_free
     @cuda.jit
     def copy_2d(src, n, dst):
         e = cuda.grid(1)
