@@ -1,4 +1,4 @@
-"""Numba's CUDA simulator, made safe for kernels with shared memory.
+"""Numba's CUDA simulator, made safe for kernels with shared memory, and faster.
 
 Under ``NUMBA_ENABLE_CUDASIM=1`` each GPU thread of a block is a Python thread,
 and ``cuda.shared.array`` is ``FakeCUDAShared.array`` (numba-cuda 0.30): it
@@ -101,6 +101,21 @@ class _NoBarrier:
     syncthreads_count = syncthreads_and = syncthreads_or = syncthreads
 
 
+class _BlockAborted(RuntimeError):
+    """Raised at a barrier in the threads of a block where another thread failed."""
+
+
+def _thread_id(tid, block_dim):
+    """The linear index of thread `tid` in a block of `block_dim` (x fastest), as the simulator's."""
+    bx, by = (tuple(block_dim) + (1, 1))[:2]
+    return tid.x + bx * (tid.y + by * tid.z)
+
+
+def _located(e, tid, bid):
+    """`e` again with the simulator's prefix naming the thread and block it came from."""
+    return type(e)(f"tid={list(tid)} ctaid={list(bid)}: {e}").with_traceback(e.__traceback__)
+
+
 class _BlockBarrier:
     """``syncthreads`` for the threads of one simulated block: a reusable barrier whose party
     shrinks as threads finish (a thread that returned is not waited for, as the simulator's own
@@ -122,7 +137,7 @@ class _BlockBarrier:
     def wait(self):
         with self.cv:
             if self.broken:
-                raise RuntimeError("another thread of the block failed")
+                raise _BlockAborted("another thread of the block failed")
             generation = self.generation
             self.count += 1
             if self.count == self.parties:
@@ -131,7 +146,7 @@ class _BlockBarrier:
             while generation == self.generation and not self.broken:
                 self.cv.wait()
             if self.broken:
-                raise RuntimeError("another thread of the block failed")
+                raise _BlockAborted("another thread of the block failed")
 
     def leave(self, failed):
         with self.cv:
@@ -188,18 +203,15 @@ class _BlockPool:
 
     def run(self, f, block_dim, grid_point, args, Dim3):
         points = list(np.ndindex(*block_dim))
-        bx, by = (tuple(block_dim) + (1, 1))[:2]
         barrier = _BlockBarrier(len(points))
         bid = Dim3(*grid_point)
         for k, point in enumerate(points):
             tid = Dim3(*point)
-            self.jobs[k].put((f, args, barrier, tid, bid, tid.x + bx * (tid.y + by * tid.z)))
-        errors = [self.done.get() for _ in points]
-        errors = [e for e in errors if e is not None]
-        if errors:  # the first thread's own error, not a "another thread failed" of the others
-            own = [e for e in errors if "another thread of the block failed" not in str(e[0])] or errors
-            e, tid = own[0]
-            raise type(e)(f"tid={list(tid)} ctaid={list(bid)}: {e}").with_traceback(e.__traceback__) from None
+            self.jobs[k].put((f, args, barrier, tid, bid, _thread_id(tid, block_dim)))
+        errors = [e for e in (self.done.get() for _ in points) if e is not None]
+        if errors:  # the failing thread's own error, not the others' `_BlockAborted`
+            e, tid = ([e for e in errors if not isinstance(e[0], _BlockAborted)] or errors)[0]
+            raise _located(e, tid, bid) from None
 
 
 _POOLS = {}
@@ -226,11 +238,11 @@ def run_barrier_free_blocks():
         if not getattr(self._f, "_shoal_barrier_free", False):
             size = int(np.prod(self._block_dim))
             with _LOCK:
-                pool = _POOLS.get(size) or _POOLS.setdefault(size, _BlockPool(size))
-            return pool.run(self._f, self._block_dim, grid_point, args, Dim3)
+                if size not in _POOLS:
+                    _POOLS[size] = _BlockPool(size)
+            return _POOLS[size].run(self._f, self._block_dim, grid_point, args, Dim3)
         me = threading.current_thread()
         saved = {k: me.__dict__[k] for k in names if k in me.__dict__}
-        bx, by = (tuple(self._block_dim) + (1, 1))[:2]
         me.blockIdx = Dim3(*grid_point)
         for k in names[3:]:
             setattr(me, k, getattr(no_barrier, k))
@@ -238,12 +250,11 @@ def run_barrier_free_blocks():
             for point in np.ndindex(*self._block_dim):
                 tid = Dim3(*point)
                 me.threadIdx = tid
-                me.thread_id = tid.x + bx * (tid.y + by * tid.z)
+                me.thread_id = _thread_id(tid, self._block_dim)
                 try:
                     self._f(*args)
                 except Exception as e:  # the simulator's message: which thread of which block
-                    raise type(e)(f"tid={list(tid)} ctaid={list(me.blockIdx)}: {e}").with_traceback(
-                        e.__traceback__) from None
+                    raise _located(e, tid, me.blockIdx) from None
         finally:
             for k in names:
                 me.__dict__.pop(k, None)
