@@ -33,8 +33,9 @@ def _setup(backend_for, kernel, dim, h, precision="float64", dp=None):
     backend = backend_for(opts, dim)
     spec = SchemeSpec.from_options(opts, dim)
     dp = h / math.sqrt(dim) if dp is None else dp
+    # (no neighbour gather here: the grid's corner and cell size are placeholders)
     P = make_params(spec, dp=dp, h=h, rho0=1000.0, c0=10.0, gamma=7.0, gravity=(0.0, 0.0, 0.0),
-                    options=opts, mass_f=1.0, mass_b=1.0)
+                    options=opts, mass_f=1.0, mass_b=1.0, grid_lo=(0.0, 0.0, 0.0), inv_cs=1.0 / h)
     return backend.physics, P
 
 
@@ -163,7 +164,7 @@ def test_float32_specialisation_stays_float32(backend_for, kernel):
     phys32, P32 = _setup(backend_for, kernel, 2, h, precision="float32")
     phys64, P64 = _setup(backend_for, kernel, 2, h, precision="float64")
     # all constants in float32, but the periods and the symmetry-plane geometry (float64 positions)
-    assert all(isinstance(v, np.float32) for k, v in P32._asdict().items() if k not in ("dim", "per_len_x", "per_len_y", "sym_y", "grid_lo_y", "inv_cs"))
+    assert all(isinstance(v, np.float32) for k, v in P32._asdict().items() if k not in ("dim", "per_len_x", "per_len_y", "sym_y", "grid_lo_x", "grid_lo_y", "grid_lo_z", "inv_cs"))
     for fn in (phys32.w, phys32.grad_factor):
         fn(np.float32(0.7), P32)
         sigs = [s for s in fn.nopython_signatures if s.args[0] == types.float32]

@@ -173,7 +173,7 @@ class Model:
                                   gravity=self.gravity, options=options, mass_f=self.mass, mass_b=self.mass,
                                   periods=periods, mk_k=mk_k,
                                   sym_y=float(symmetry_y[0]) if symmetry_y is not None else 0.0,
-                                  grid_lo_y=float(lo3[1]), inv_cs=options.cells_per_support / (2.0 * self.h))
+                                  grid_lo=tuple(float(v) for v in lo3), inv_cs=options.cells_per_support / (2.0 * self.h))
         self.P = params_array(self.spec, self.params)  # what kernels receive (moved to the device below)
         from .physics.planes import plane_tables
 

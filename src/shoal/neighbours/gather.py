@@ -12,12 +12,26 @@ a few steps' displacement of still water). Every pair within the support
 which folds it into an accumulator tuple (written once, used by the rates,
 the filters and the probes, on every backend).
 
+Each row is trimmed to the cells the support sphere of particle i can reach
+(without periodic axes or a symmetry plane): a row whose y-z rectangle lies
+farther than 2h from r_i is skipped, and the x-range of the others is cut to
+x_i -+ sqrt((2h)^2 - d^2), d the distance from r_i to the rectangle. With
+n = 2 this visits 84 h^3 of cells on average instead of 125 h^3 (the
+support sphere is 33.5 h^3): a third fewer candidates, 471 -> 328 a
+particle in the 3D benchmark. The radius has a margin of `TRIM_MARGIN` of a
+cell, because a rate evaluation between two sorts (the symplectic scheme's
+second) sees particles up to 0.1 h v / c0 from where they were binned.
+
 Periodic axes (x, and y in 3D): the cell grid tiles the period exactly
 (see `CellGrid`), and a stencil that runs off one side continues on the
 other with the neighbour's image shifted by the period L:
 r_i - (r_j -+ L). With periodic x, each row is scanned as up to three
 contiguous segments (the main one and the wrapped ones).
 """
+
+
+TRIM_MARGIN = 0.05
+"""Margin [cells] on the support radius of the row trimming (see the module docstring)."""
 
 
 def make_gather(jit, spec, pair):
@@ -43,6 +57,7 @@ def make_gather(jit, spec, pair):
     one = F(1.0)
     if spec.periodic or spec.symmetry:
         return _make_periodic_gather(jit, spec, pair)
+    reach2 = (n + TRIM_MARGIN) ** 2  # the support radius in cells, squared, with the margin
 
     if dim == 3:
         @jit
@@ -53,12 +68,22 @@ def make_gather(jit, spec, pair):
             t = c // nx
             iy = t % ny
             iz = t // ny
-            x0 = max(ix - n, 0)
-            x1 = min(ix + n, nx - 1)
             xi, yi, zi = pos[i, 0], pos[i, 1], pos[i, 2]
+            # r_i in cell units, for the trimming
+            ux = (xi - P.grid_lo_x) * P.inv_cs
+            uy = (yi - P.grid_lo_y) * P.inv_cs
+            uz = (zi - P.grid_lo_z) * P.inv_cs
             supp2 = P.supp2
             for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+                ez = max(0.0, max(z - uz, uz - (z + 1)))
                 for y in range(max(iy - n, 0), min(iy + n, ny - 1) + 1):
+                    ey = max(0.0, max(y - uy, uy - (y + 1)))
+                    e2 = reach2 - ey * ey - ez * ez
+                    if e2 <= 0.0:
+                        continue
+                    e = e2 ** 0.5
+                    x0 = max(int(ux - e), ix - n, 0)
+                    x1 = min(int(ux + e), ix + n, nx - 1)
                     row = nx * (y + ny * z)
                     for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
                         dx = F(xi - pos[j, 0])
@@ -75,11 +100,18 @@ def make_gather(jit, spec, pair):
             c = cell[i]
             ix = c % nx
             iz = c // nx
-            x0 = max(ix - n, 0)
-            x1 = min(ix + n, nx - 1)
             xi, zi = pos[i, 0], pos[i, 1]
+            ux = (xi - P.grid_lo_x) * P.inv_cs
+            uz = (zi - P.grid_lo_z) * P.inv_cs
             supp2 = P.supp2
             for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+                ez = max(0.0, max(z - uz, uz - (z + 1)))
+                e2 = reach2 - ez * ez
+                if e2 <= 0.0:
+                    continue
+                e = e2 ** 0.5
+                x0 = max(int(ux - e), ix - n, 0)
+                x1 = min(int(ux + e), ix + n, nx - 1)
                 row = nx * z
                 for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
                     dx = F(xi - pos[j, 0])

@@ -20,6 +20,7 @@ fluid's momentum budget exactly. [N]; 2D: per metre of width [N/m]. Fluid and re
 """
 
 from .rates import make_store, make_tensile
+from .reciprocals import make_reciprocals
 from .spec import FIXED, FLUID, MOVING
 
 
@@ -34,6 +35,7 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
     no_slip = spec.no_slip
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
+    reciprocals = make_reciprocals(jit, spec)
 
     @jit
     def force_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
@@ -53,7 +55,8 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
         prs = pr2a + pr2b
         if tensile:
             prs += tensile_pair(q, tensile_coef(pr2a), tb, P)
-        pi_ab, lam = viscous(vdotr, r2, fr, P.mass_f, rho[j], rhob, P)
+        inv_a, inv_s, _ = reciprocals(r2, P.eta2, rho[j], rhob)
+        pi_ab, lam = viscous(vdotr, r2, fr, P.mass_f, inv_a, inv_s, P)
         pi_ab *= P.visc_bound
         lam *= P.visc_bound
         f = -P.mass_f * (prs + pi_ab) * fr

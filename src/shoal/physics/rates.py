@@ -28,6 +28,7 @@ The time-step limit needs max_j |h v_ij . r_ij / (r_ij^2 + eta^2)|
 (Monaghan & Kos 1999), accumulated here per particle.
 """
 
+from .reciprocals import make_reciprocals
 from .spec import FLUID, REPULSIVE
 
 
@@ -100,6 +101,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     two, halfq = F(2.0), F(0.5)
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
+    reciprocals = make_reciprocals(jit, spec)
 
     @jit
     def fluid_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
@@ -119,11 +121,12 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 vjy = sy * vel[j, 1] if dim == 3 else zero
                 ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
                 vdotr = ux * dx + uy * dy + uz * dz
-                pi_ij, lam = viscous(vdotr, r2, fr, P.mass_f, rhoi, P.rho0, P)
+                inv_a, inv_s, _ = reciprocals(r2, P.eta2, rhoi, P.rho0)
+                pi_ij, lam = viscous(vdotr, r2, fr, P.mass_f, inv_a, inv_s, P)
                 pi_ij *= P.visc_bound
                 lam *= P.visc_bound
                 f = c - P.mass_f * pi_ij * fr
-                vmax = max(vmax, abs(P.h * vdotr / (r2 + P.eta2)))
+                vmax = max(vmax, abs(P.h * vdotr * inv_a))
                 return (ax + f * dx + lam * ux, ay + f * dy + lam * uy, az + f * dz + lam * uz, dr, xx, xy, xz,
                         vmax)
         vjx = vel[j, 0]
@@ -131,18 +134,26 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         vjy = sy * vel[j, 1] if dim == 3 else zero
         ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
         vdotr = ux * dx + uy * dy + uz * dz
+        # the fluid / boundary distinctions below are selects and factors of one or zero, not
+        # branches: neighbours of both kinds alternate in cell order, and the mispredicted branches
+        # cost 8 % of the pair loop (3D dam break, this project's CPU)
         is_fluid = kind[j] == FLUID
+        fl = one if is_fluid else zero
         mj = P.mass_f if is_fluid else P.mass_b
+        vb = one if is_fluid else P.visc_bound
         rhoj = rho[j]
-        # continuity
-        dr += mj * vdotr * fr
-        if is_fluid:
-            dr += diffusion(rhoi, rhoj, dx, dy, dz, fr, mj, P)
-        # momentum
         pr2j = pr2[j]
-        prs = pr2i + pr2j
-        if tensile:
-            prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
+        # j's arrays are all read before the calls below: Numba left an array read after them with
+        # a reference-count increment and decrement per pair (20 % of the pair loop's time;
+        # `benchmarks/refcounts.py` finds them)
+        if use_sps:
+            # (tau_i/rho_i^2 + tau_j/rho_j^2); a mirror image's stress has its xy and yz components
+            # reversed; a boundary particle's tau is zero
+            if dim == 3:
+                sxx, sxy, sxz = t0 + tau[j, 0], t1 + sy * tau[j, 1], t2 + tau[j, 2]
+                syy, syz, szz = t3 + tau[j, 3], t4 + sy * tau[j, 4], t5 + tau[j, 5]
+            else:
+                sxx, sxz, szz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
         # viscous term: against a boundary particle, its no-slip velocity when enabled (`no_slip`)
         wx, wy, wz, vdotr_v = ux, uy, uz, vdotr
         if no_slip:
@@ -151,42 +162,45 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 wz = viz - vwall[j, dim - 1]
                 wy = viy - sy * vwall[j, 1] if dim == 3 else zero
                 vdotr_v = wx * dx + wy * dy + wz * dz
-        pi_ij, lam = viscous(vdotr_v, r2, fr, mj, rhoi, rhoj, P)
-        if not is_fluid:
-            pi_ij *= P.visc_bound
-            lam *= P.visc_bound
+        inv_a, inv_s, inv_rhoj = reciprocals(r2, P.eta2, rhoi, rhoj)
+        # continuity, with density diffusion between fluid particles only
+        dr += mj * vdotr * fr + fl * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
+        # momentum
+        prs = pr2i + pr2j
+        if tensile:
+            prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
+        pi_ij, lam = viscous(vdotr_v, r2, fr, mj, inv_a, inv_s, P)
+        pi_ij *= vb
+        lam *= vb
         f = -mj * (prs + pi_ij) * fr
         ax += f * dx + lam * wx
         ay += f * dy + lam * wy
         az += f * dz + lam * wz
         if use_sps:
-            if is_fluid:
-                # (tau_i/rho_i^2 + tau_j/rho_j^2) . grad W, grad W = fr r_ij
-                c = mj * fr
-                if dim == 3:
-                    # a mirror image's stress has its xy and yz components reversed
-                    sxx, sxy, sxz = t0 + tau[j, 0], t1 + sy * tau[j, 1], t2 + tau[j, 2]
-                    syy, syz, szz = t3 + tau[j, 3], t4 + sy * tau[j, 4], t5 + tau[j, 5]
-                    ax += c * (sxx * dx + sxy * dy + sxz * dz)
-                    ay += c * (sxy * dx + syy * dy + syz * dz)
-                    az += c * (sxz * dx + syz * dy + szz * dz)
-                else:
-                    sxx, sxz, szz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
-                    ax += c * (sxx * dx + sxz * dz)
-                    az += c * (sxz * dx + szz * dz)
-        vmax = max(vmax, abs(P.h * vdotr / (r2 + P.eta2)))
+            # the stress term sum_j m_j (..) . grad W, grad W = fr r_ij, between fluid particles
+            c = fl * mj * fr
+            if dim == 3:
+                ax += c * (sxx * dx + sxy * dy + sxz * dz)
+                ay += c * (sxy * dx + syy * dy + syz * dz)
+                az += c * (sxz * dx + syz * dy + szz * dz)
+            else:
+                ax += c * (sxx * dx + sxz * dz)
+                az += c * (sxz * dx + szz * dz)
+        vmax = max(vmax, abs(P.h * vdotr * inv_a))
         if use_xsph:
-            if is_fluid:
-                c = mj * w(q, P) / ((rhoi + rhoj) * F(0.5))
-                xx -= c * ux
-                xy -= c * uy
-                xz -= c * uz
+            # m_j W_ij / rho_ij with rho_ij = (rho_i + rho_j) / 2, between fluid particles
+            c = two * fl * mj * w(q, P) * inv_s
+            xx -= c * ux
+            xy -= c * uy
+            xz -= c * uz
         return ax, ay, az, dr, xx, xy, xz, vmax
 
     @jit
     def bound_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         vix, viy, viz = own
         vel, rho, pr2, kind, tau, vwall = data
+        # with fluid neighbours only (a branch, unlike `fluid_pair`: most of a wall particle's
+        # neighbours are wall particles, so it is well predicted and skips their kernel gradients)
         if kind[j] != FLUID:
             return acc
         q = r2 ** F(0.5) * P.inv_h

@@ -95,7 +95,7 @@ Params = namedtuple("Params", [
     "xsph_eps",
     "sps_smag", "sps_blin", "mk_k",
     "per_len_x", "per_len_y",
-    "sym_y", "grid_lo_y", "inv_cs",
+    "sym_y", "grid_lo_x", "grid_lo_y", "grid_lo_z", "inv_cs",
     "dim",
 ])
 """Run-time constants of a kernel, all in the working precision.
@@ -114,8 +114,9 @@ epsilon. sps_smag = (Cs dp)^2 [m^2], sps_blin = (2/3) C_I dp^2 [m^2]: SPS
 turbulence. mk_k = K / beta [m^2/s^2]: Monaghan-Kajtar boundary force,
 K = g D, beta = dp / dp_b = 2. per_len_x, per_len_y: periods [m] of periodic x and y (float64:
 they shift float64 position differences; 0 when not periodic). sym_y:
-the symmetry plane's y [m]; grid_lo_y, inv_cs: the cell grid's lower y and
-1 / cell size (to find the mirror point's cell); float64. dim: the
+the symmetry plane's y [m]; grid_lo_x, grid_lo_y, grid_lo_z, inv_cs: the cell
+grid's lower corner [m] and 1 / cell size [1/m] (to trim the gather's rows to
+the support, and to find the mirror point's cell); float64. dim: the
 dimension (an int, which also keeps the tuple heterogeneous:
 Numba's parallel loops reject homogeneous named tuples as loop arguments).
 """
@@ -135,7 +136,7 @@ def params_dtype(spec):
     """
     F = spec.float_type
     wide = {"dim": np.int64, "per_len_x": np.float64, "per_len_y": np.float64, "sym_y": np.float64,
-            "grid_lo_y": np.float64, "inv_cs": np.float64}
+            "grid_lo_x": np.float64, "grid_lo_y": np.float64, "grid_lo_z": np.float64, "inv_cs": np.float64}
     return np.dtype([(name, wide.get(name, F)) for name in Params._fields], align=True)
 
 
@@ -158,8 +159,8 @@ def make_unpack(jit):
         return Params(r["h"], r["inv_h"], r["supp2"], r["eta2"], r["aw"], r["agrad"], r["inv_wdp"],
                       r["rho0"], r["inv_rho0"], r["B"], r["c0"], r["rho0_c02"], r["alpha"], r["nu4"],
                       r["ddt_coef"], r["visc_bound"], r["mass_f"], r["mass_b"], r["gx"], r["gy"], r["gz"], r["xsph_eps"],
-                      r["sps_smag"], r["sps_blin"], r["mk_k"], r["per_len_x"], r["per_len_y"], r["sym_y"], r["grid_lo_y"],
-                      r["inv_cs"], r["dim"])
+                      r["sps_smag"], r["sps_blin"], r["mk_k"], r["per_len_x"], r["per_len_y"], r["sym_y"], r["grid_lo_x"],
+                      r["grid_lo_y"], r["grid_lo_z"], r["inv_cs"], r["dim"])
 
     return unpack
 
@@ -175,9 +176,12 @@ def kernel_normalisation(kernel, dim, h):
     return 10.0 / (7.0 * math.pi * h**2) if dim == 2 else 1.0 / (math.pi * h**3)
 
 
-def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, periods=(0.0, 0.0), mk_k=0.0,
-                sym_y=0.0, grid_lo_y=0.0, inv_cs=0.0):
-    """Build `Params` for a run, cast to the working precision."""
+def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_b, grid_lo, inv_cs,
+                periods=(0.0, 0.0), mk_k=0.0, sym_y=0.0):
+    """Build `Params` for a run, cast to the working precision.
+
+    `grid_lo` (x, y, z) [m] and `inv_cs` [1/m] are the neighbour grid's lower corner and 1 / cell
+    size (`CellGrid`; in 2D, x and z are used): the gather trims its rows with them."""
     F = spec.float_type
     aw = kernel_normalisation(spec.kernel, spec.dim, h)
     B = c0 * c0 * rho0 / gamma
@@ -204,4 +208,5 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
         mk_k=mk_k,
     )
     return Params(**{k: F(v) for k, v in vals.items()}, per_len_x=float(periods[0]), per_len_y=float(periods[1]),
-                  sym_y=float(sym_y), grid_lo_y=float(grid_lo_y), inv_cs=float(inv_cs), dim=int(spec.dim))
+                  sym_y=float(sym_y), grid_lo_x=float(grid_lo[0]), grid_lo_y=float(grid_lo[1]),
+                  grid_lo_z=float(grid_lo[2]), inv_cs=float(inv_cs), dim=int(spec.dim))

@@ -46,7 +46,9 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
         ux, uy, uz, lim = own
         kind = data
         # (dx, dy, dz) = r_i - r_j: j is not lower than lim below i when (r_j - r_i) . up >= -lim
-        return acc or (kind[j] == FLUID and ux * dx + uy * dy + uz * dz <= lim)
+        # (no short-circuit: a conditional read of `kind` kept a reference count per pair)
+        fluid = kind[j] == FLUID
+        return acc | (fluid & (ux * dx + uy * dy + uz * dz <= lim))
 
     gather_wet = make_gather(jit, spec, wet_pair)
 

@@ -37,10 +37,14 @@ def make_probe(jit, spec, kernels, pressure, make_point_gather, unpack):
         vel, rho, kind = data
         if kind[j] != FLUID:
             return acc
+        # j's arrays are read before the calls: read after them, Numba kept a reference-count
+        # increment and decrement per pair (`benchmarks/refcounts.py`)
         rj = rho[j]
+        uj = vel[j, 0]
+        vj = vel[j, 1] if dim == 3 else zero
+        wj = vel[j, dim - 1]
         vw = P.mass_f / rj * w(r2 ** F(0.5) * P.inv_h, P)
-        return (s + vw, sp + vw * pressure(rj, P), sr + vw * rj, su + vw * vel[j, 0],
-                sv + (vw * vel[j, 1] if dim == 3 else zero), sw + vw * vel[j, dim - 1])
+        return (s + vw, sp + vw * pressure(rj, P), sr + vw * rj, su + vw * uj, sv + vw * vj, sw + vw * wj)
 
     gather_at = make_point_gather(jit, spec, probe_pair)
 
