@@ -157,7 +157,8 @@ def fluid_block(shared_backends):
 # thread, 2026-12-03) and, handed out last, ran alone while the other worker idled. The files below
 # go first, costliest first (the longest-processing-time rule); the rest keep their order.
 _COSTLY_FILES = ("test_tidal_bore.py", "test_cuda_parity.py", "test_mpi.py", "test_still_water.py",
-                 "test_symmetry.py", "test_dam_break.py", "test_cuda_grid.py", "test_mpi_cuda.py")
+                 "test_symmetry.py", "test_dam_break.py", "test_cuda_grid.py", "test_mpi_cuda.py",
+                 "test_refcounts.py")
 
 
 def pytest_configure(config):
