@@ -125,7 +125,8 @@ def check_case(name, kwargs, seen, label):
     # the other neighbour loops: filters, probes, free surface, wall forces
     m.apply_filter("shepard")
     m.apply_filter("mls")
-    lo, hi = m.world_positions().min(axis=0), m.world_positions().max(axis=0)
+    xyz = m.world_positions()
+    lo, hi = xyz.min(axis=0), xyz.max(axis=0)
     m.sample(np.array([0.5 * (lo + hi)]), shepard=True)
     m.free_surface()
     m.wall_forces()
