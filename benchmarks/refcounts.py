@@ -13,8 +13,10 @@ and reports each compiled function with a reference increment inside a loop of i
     python benchmarks/refcounts.py --default-only rip-current   # without the case's variants
 """
 
+import atexit
 import os
 import re
+import shutil
 import sys
 import tempfile
 
@@ -22,6 +24,7 @@ import numpy as np
 
 if "NUMBA_CACHE_DIR" not in os.environ:
     os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="shoal-refcounts-")
+    atexit.register(shutil.rmtree, os.environ["NUMBA_CACHE_DIR"], ignore_errors=True)
 
 # coarse spacings, so that each case is quick to build (its scheme does not depend on dp)
 COARSE = {"dam-break-2d": dict(dp=0.02), "dam-break-3d": dict(dp=0.03), "dam-break-dualsphysics": dict(dp=0.03),

@@ -35,18 +35,44 @@ np.savez(sys.argv[1], pos=m.host(m.pos)[order], vel=m.host(m.vel)[order], rho=m.
 
 
 def _run(cache_dir, out):
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir),
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), NUMBA_DEBUG_CACHE="1",
                PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     proc = subprocess.run([sys.executable, "-c", SCRIPT, str(out)], env=env, capture_output=True, text=True,
                           timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
-    return np.load(out)
+    return np.load(out), proc.stdout
 
 
 def test_cold_compile_and_cache_load_give_the_same_run(tmp_path):
     cache = tmp_path / "numba-cache"
-    cold = _run(cache, tmp_path / "cold.npz")
+    cold, _ = _run(cache, tmp_path / "cold.npz")
     assert any(cache.rglob("*.nbi"))  # the first process wrote the cache
-    warm = _run(cache, tmp_path / "warm.npz")
+    warm, log = _run(cache, tmp_path / "warm.npz")
+    # the second process compiled nothing: every kernel's cache key (which pickles the functions
+    # it calls) is the same in a new process
+    saved = [line for line in log.splitlines() if "data saved" in line]
+    assert not saved, saved[:3]
+    assert "data loaded" in log
     for k in ("pos", "vel", "rho"):
         assert np.array_equal(cold[k], warm[k]), k
+
+
+def test_each_kernel_has_its_own_cache_entry():
+    """Every loop kernel of every scheme has its own name in Numba's on-disk cache, the same in every
+    build: kernels of different schemes never share an index file, so processes compiling different
+    schemes at once (the MPI ranks of a test, a parameter sweep) cannot hand each other's machine code
+    to a later run."""
+    from shoal.backends.cpu import CPUBackend
+    from shoal.options import SPHOptions
+    from shoal.physics.spec import SchemeSpec
+
+    names = {}
+    for dim in (2, 3):
+        for precision in ("float32", "float64"):
+            spec = SchemeSpec.from_options(SPHOptions(precision=precision), dim)
+            a, b = CPUBackend(spec), CPUBackend(spec)
+            for k in ("rates", "pr2", "verlet"):
+                qa, qb = getattr(a, k).py_func.__qualname__, getattr(b, k).py_func.__qualname__
+                assert qa == qb  # stable: the cache is found again
+                names[(dim, precision, k)] = qa
+    assert len(set(names.values())) == len(names)

