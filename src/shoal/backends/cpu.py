@@ -39,8 +39,8 @@ def make_for_each(fn):
     Each kernel gets its own entry in Numba's on-disk cache (a qualified name
     made from `fn`'s name, which `shoal.physics` makes unique per scheme and
     source). Under one shared name, every kernel of every scheme went into one
-    index file, and two processes compiling different kernels at once (the
-    test suite's workers, a parameter sweep) could both take the same data
+    index file, and two processes compiling different kernels at once on one
+    cache directory (MPI ranks, a parameter sweep) could both take the same data
     file for different kernels: a later process then loaded the other
     scheme's machine code (3D still water lost its particles).
     """
