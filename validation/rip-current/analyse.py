@@ -19,7 +19,9 @@ Reads the run directory (``testpoints_bar.nc``, ``gauge_*.csv``, ``case.toml``, 
   Omega; in these axes, x onshore and y from the channel wall to the bar wall, the paper's primary
   cell, onshore over the bar and offshore in the channel, has Omega < 0);
 * writes ``results.json`` and makes the plan-view mean-current and mean-water-level PNGs with
-  `shoal.post.plot_mean_flow`, copied here as ``meanflow_current.png`` and ``meanflow_setup.png``.
+  `shoal.post.plot_mean_flow`, copied here as ``meanflow_current.png`` and ``meanflow_setup.png``
+  (or to `--out`; a `--preview DIR` of a run still going writes them to DIR unless `--out` says
+  otherwise, so it never replaces the finished run's results kept here).
 """
 
 from __future__ import annotations
@@ -188,10 +190,13 @@ def main(argv=None):
     ap.add_argument("run_dir")
     ap.add_argument("--period", type=float, default=None, help="wave period [s] (default: the case's)")
     ap.add_argument("--periods", type=int, default=5, help="average over the last N periods (5)")
-    ap.add_argument("--out", default=str(HERE), help="where results.json and the two PNGs go")
+    ap.add_argument("--out", default=None,
+                    help="where results.json and the two PNGs go (default: this folder; with --preview, its DIR)")
     ap.add_argument("--preview", default=None, metavar="DIR",
                     help="the run is still going: analyse the newest checkpoint's test points (copied to DIR)")
     a = ap.parse_args(argv)
+    # a preview must not replace the finished run's results kept here
+    a.out = a.out or (a.preview if a.preview else str(HERE))
 
     import xarray as xr
 
