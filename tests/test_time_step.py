@@ -75,7 +75,8 @@ def test_a_closing_pair_shortens_the_time_step_as_the_formula_says():
     n = m.n
     kind = m.host(m.kind)[:n]
     pos = m.host(m.pos)[:n].copy()
-    i = np.where(kind == 0)[0][len(np.where(kind == 0)[0]) // 2]
+    fluid = np.where(kind == 0)[0]
+    i = fluid[len(fluid) // 2]
     dp = A / 8
     j = np.argmin(np.where(kind == 0, np.sum((pos - (pos[i] + [dp, 0.0])) ** 2, axis=1), np.inf))
     pos[j] = pos[i] + [0.2 * dp, 0.0]

@@ -196,7 +196,7 @@ def main(argv=None):
                     help="the run is still going: analyse the newest checkpoint's test points (copied to DIR)")
     a = ap.parse_args(argv)
     # a preview must not replace the finished run's results kept here
-    a.out = a.out or (a.preview if a.preview else str(HERE))
+    a.out = a.out or a.preview or str(HERE)
 
     import xarray as xr
 
