@@ -339,3 +339,19 @@ def test_extending_a_finished_run(reference, tmp_path):
     assert np.all(np.diff(t) > 0) and t[-1] == pytest.approx(0.248, abs=1e-9)
     assert read_checkpoint(list_checkpoints(out)[0]).time == pytest.approx(0.25, abs=1e-12)
     assert load_case(out / "case.toml").end_time == 0.25
+
+
+def test_a_checkpoint_written_during_the_run_records_the_wall_time_so_far(tmp_path):
+    # the wall time of a resumed run adds the checkpoint's: one written from a callback in the middle of
+    # a `run` call must count that call's time so far (it recorded the time at the call's start, so a run
+    # resumed from it reported only the segments before, and a particle-step rate far too high)
+    case = shoal.cases.dam_break_2d(dp=0.02, end_time=0.02, output_interval=0.02)
+    case = case.model_copy(update={"checkpoint": Checkpointing(interval=0.01, wall_interval=0.0, keep=3)})
+    res = run_case(case, tmp_path / "run", plot=False, handle_signals=False)
+    metas = sorted((read_checkpoint(p).meta for p in list_checkpoints(tmp_path / "run")),
+                   key=lambda m: m["step_count"])
+    walls = [m["wall_seconds"] for m in metas]
+    assert len(walls) >= 2  # at t = 0.01 s, during the run, and the final one
+    assert 0 < walls[0] < walls[-1] <= res.wall_seconds
+    resumed = shoal.resume_run(tmp_path / "run", end_time=0.03, plot=False, handle_signals=False)
+    assert resumed.wall_seconds > res.wall_seconds  # the resumed run counts the first run's time, then its own

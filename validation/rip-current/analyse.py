@@ -1,6 +1,6 @@
-"""Analyse the coarse rip-current validation run (issue 6, item 5; see README.md and run.py).
+"""Analyse the rip-current validation run (issue 6, item 5; see README.md and run.py).
 
-    PYTHONPATH=src /work/venv/bin/python validation/rip-current/analyse.py /tmp/shoal-rip/run
+    PYTHONPATH=src python validation/rip-current/analyse.py runs/rip-0.05
 
 Reads the run directory (``testpoints_bar.nc``, ``gauge_*.csv``, ``case.toml``, ``run.log``) and
 
@@ -12,7 +12,7 @@ Reads the run directory (``testpoints_bar.nc``, ``gauge_*.csv``, ``case.toml``, 
   (`shoal.analysis.set_up`) and from the test-point columns, over the bar and in the rip channel;
   both raw and relative to the level each gauge / column reads in still water at the start (the
   kernel-sum surface of a coarse lattice sits a fraction of dp off the nominal level, and the
-  offset depends on the depth: over the crest the water is two particles deep);
+  offset depends on the depth: over the crest the water is two or three particles deep);
 * gives the sign of the mean cross-shore current in the channel (x points onshore: U < 0 is
   offshore) and the sense of rotation of the mean circulation over the bar and near the shore
   (circulation = the line integral of the mean current round a rectangle = the area integral of
@@ -136,7 +136,7 @@ def run_stats(run_dir):
     m = re.findall(r"particles \d+ \(fluid \d+\), dp ([\d.eE+-]+) m", log)
     if m:
         out["dp"] = float(m[-1])
-    done = re.findall(r"done: (\d+) steps to t = ([\d.eE+-]+) in ([\d.]+) s wall \(([\d.]+) s compile\), "
+    done = re.findall(r"done: (\d+) steps to t = ([\d.eE+-]+)(?: s)? in ([\d.]+) s wall \(([\d.]+) s compile\), "
                       r"([\d.eE+-]+) particle-steps/s", log)
     if done:
         s, t, w, c, r = done[-1]
@@ -146,12 +146,27 @@ def run_stats(run_dir):
         steps = re.findall(r"step (\d+) t ([\d.eE+-]+) s", log)
         if steps:
             out.update(finished=False, steps=int(steps[-1][0]), t_end=float(steps[-1][1]))
-    stamps = re.findall(r"^(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d)", log, flags=re.M)
-    if stamps:
-        from datetime import datetime
+    # the computing time from the log's clock: each process (the start and every --resume) is a segment
+    # from its "particles ..." line to its last line; their sum counts a stopped process's work after its
+    # last checkpoint, which the resumed process redid, twice (checkpoints came every 15 min)
+    from datetime import datetime
 
-        t0, t1 = (datetime.strptime(s, "%Y-%m-%d %H:%M:%S") for s in (stamps[0], stamps[-1]))
-        out["log_span_seconds"] = (t1 - t0).total_seconds()
+    segments, start, last = [], None, None
+    for line in log.splitlines():
+        m = re.match(r"(\d{4}-\d\d-\d\d \d\d:\d\d:\d\d)", line)
+        if not m:
+            continue
+        stamp = datetime.strptime(m.group(1), "%Y-%m-%d %H:%M:%S")
+        if re.search(r"INFO particles \d+ \(fluid", line):
+            if start is not None:
+                segments.append((last - start).total_seconds())
+            start = stamp
+        last = stamp
+    if start is not None:
+        segments.append((last - start).total_seconds())
+        out.update(processes=len(segments), log_compute_seconds=sum(segments))
+        if out.get("steps") and out["log_compute_seconds"] > 0 and "particles" in out:
+            out["log_particle_steps_per_second"] = out["particles"] * out["steps"] / out["log_compute_seconds"]
     return out
 
 
@@ -189,7 +204,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run_dir")
     ap.add_argument("--period", type=float, default=None, help="wave period [s] (default: the case's)")
-    ap.add_argument("--periods", type=int, default=5, help="average over the last N periods (5)")
+    ap.add_argument("--periods", type=int, default=1,
+                    help="average over the last N periods (1: the paper averages over one wave period)")
     ap.add_argument("--out", default=None,
                     help="where results.json and the two PNGs go (default: this folder; with --preview, its DIR)")
     ap.add_argument("--preview", default=None, metavar="DIR",

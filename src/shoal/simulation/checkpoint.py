@@ -309,7 +309,7 @@ def capture(sim, case_toml, particles=None, rows=None):
     meta = {
         "format": FORMAT, "version": VERSION, "shoal_version": __version__,
         "time": _f(sim.time), "step_count": int(sim.step_count), "dt": _f(sim.dt), "dt0": _f(sim.dt0),
-        "end_time": _f(sim.end_time), "wall_seconds": _f(sim.wall_seconds),
+        "end_time": _f(sim.end_time), "wall_seconds": _f(sim.elapsed_wall_seconds()),
         "model": {"n": int(m.n), "n_total": int(m.n_total), "n_escaped": int(m.n_escaped), "time": _f(m.time),
                   "dim": int(m.dim), "dtype": np.dtype(m.dtype).str, "backend": m.backend.name},
         "integrator": {"type": type(sim.integrator).__name__, "scalars": _scalars(sim.integrator, skip=("model",)),

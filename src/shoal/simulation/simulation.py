@@ -66,7 +66,8 @@ class Simulation:
         self.dt0 = None
         self.dt_floor_ratio = dt_floor_ratio
         self.check_every = check_every
-        self.wall_seconds = 0.0
+        self.wall_seconds = 0.0  # the finished `run` calls' wall time (and, on a resume, the checkpoint's)
+        self._run_t0 = None  # perf_counter at the start of the `run` call in progress
         self.compile_seconds = 0.0  # the part of wall_seconds spent on first calls (compiling, cache loads)
         self.stop_requested = False  # set (e.g. by a signal handler) to end the run after the current step
         # func(sim) run after every step's callbacks, with no schedule and no state in checkpoints
@@ -137,9 +138,16 @@ class Simulation:
             m.check(self.step_count, self.time)
         return dt
 
+    def elapsed_wall_seconds(self):
+        """The wall time so far: `wall_seconds` plus the part of the `run` call in progress (what a
+        checkpoint written from a callback must record, or a resumed run's total misses that part)."""
+        if self._run_t0 is None:
+            return self.wall_seconds
+        return self.wall_seconds + (_time.perf_counter() - self._run_t0)
+
     def run(self, max_steps=None):
         """Run to `end_time` (or `max_steps` steps). Returns self."""
-        t0 = _time.perf_counter()
+        t0 = self._run_t0 = _time.perf_counter()
         c0 = self.model.backend.compile_seconds
         try:
             if not self.started:
@@ -158,5 +166,6 @@ class Simulation:
                     func(self)
         finally:
             self.wall_seconds += _time.perf_counter() - t0
+            self._run_t0 = None
             self.compile_seconds += self.model.backend.compile_seconds - c0
         return self
