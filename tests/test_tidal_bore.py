@@ -80,13 +80,14 @@ def run_bore(U, dp, end_time, tmp_path, options=None, breaking=False):
     return (cm - c) / c, (level - d1) / d1, n_crests, first, index
 
 
-@pytest.mark.parametrize("U,end_time", [
-    # the undular bore with these DBC walls is kept out of CI's time (2 min): CI checks it with the
-    # Adami walls (`test_undular_bore_one_scheme_quick`), and at d0/20 with DBC walls under -m validation
-    pytest.param(0.3, 1.3, marks=pytest.mark.validation),
-    (0.7, 1.6)])
+@pytest.mark.validation
+@pytest.mark.parametrize("U,end_time", [(0.3, 1.3), (0.7, 1.6)])
 def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
-    """Issue 5 item 2 with one scheme (`LOW_ALPHA`) at dp = d0/10: both bores within 3 % of the
+    """(`-m validation`: 2-4 min each on a shared core, kept out of CI's 20 minutes, 2026-12-04; in CI the
+    undular bore runs with the Adami walls, `test_undular_bore_one_scheme_quick`, and both bores'
+    celerity and level at d0/10 are the `tidal-bores` entry of `shoal validate --quick`.)
+
+    Issue 5 item 2 with one scheme (`LOW_ALPHA`) at dp = d0/10: both bores within 3 % of the
     Belanger celerity and conjugate depth; the U = 0.3 m/s bore (Fr 1.24) undular -- secondary crests,
     the first above d1, its water far slower than the front (breaking index B = max u_crest / c well
     below 1) -- and the U = 0.7 m/s bore (Fr 1.59) breaking: its crest water overtakes the front (B >= 1,
