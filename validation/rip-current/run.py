@@ -14,7 +14,7 @@ A run stopped by SIGTERM/SIGINT (or a crash) continues with
 are in the checkpoints); ``--end-time`` extends a finished run. The coarse run of 2026-12-02 is
 ``--dp 0.075 --end-time 22.5`` (analysed with ``--periods 5``).
 
-Changes from the built-in case, each for the cost of a one-thread CPU run (see README.md):
+Changes from the built-in case, each for the cost of a CPU run (see README.md):
 
 * dp = 0.05 m (three particles over the bar crest; 0.075 m, two, is the coarsest the case accepts,
   and there the set-up over the bar is not resolved: README.md);
