@@ -27,17 +27,12 @@ import os
 # loaded (the first parallel loop); a value in the environment wins.
 os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
-# Under pytest-xdist each worker keeps its own Numba cache: Numba's on-disk
-# cache is not safe for two processes compiling the same functions at once
-# (an index written by one can name a data file the other has just replaced;
-# seen here: a worker segfaulted in compute_rates). Set before Numba is
-# imported (below, through shoal); a cache directory in the environment wins.
-if os.environ.get("PYTEST_XDIST_WORKER") and "NUMBA_CACHE_DIR" not in os.environ:
-    import tempfile
-
-    _uid = os.getuid() if hasattr(os, "getuid") else "user"
-    os.environ["NUMBA_CACHE_DIR"] = os.path.join(
-        tempfile.gettempdir(), f"shoal-numba-cache-{_uid}-{os.environ['PYTEST_XDIST_WORKER']}")
+# The pytest-xdist workers share one Numba cache (Numba's default, beside the
+# sources): a kernel one worker compiled, the other loads. `shoal.cache_lock`
+# (installed when shoal is imported) makes their writes of one cache index
+# atomic; without it two workers saving two signatures of one kernel at once
+# could leave an entry naming the other's machine code (a worker segfaulted in
+# compute_rates that way, when each worker had to keep its own cache).
 
 # Under Numba's CUDA simulator (child processes of the CUDA tests) shoal runs the barrier-free kernels
 # in one thread and the others on a pool of threads (`shoal.backends.simulator`); the default 5 ms GIL

@@ -24,6 +24,12 @@ import os as _os
 # short spin keeps idle-machine speed and removes that collapse.
 _os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
+from .cache_lock import install as _install_cache_lock  # noqa: E402
+
+# Processes that share Numba's on-disk cache (MPI ranks, sweeps, test workers)
+# must not interleave their writes of one cache index (shoal.cache_lock).
+_install_cache_lock()
+
 from . import cases, geometry, motions  # noqa: E402
 from .case import Case, Domain, Fluid, FluidRegion, Output, Solid, SymmetryPlane  # noqa: E402
 from .casefile import load_case, write_case  # noqa: E402
