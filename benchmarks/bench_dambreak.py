@@ -2,7 +2,9 @@
 
 Prints one JSON object: particles, steps, force evaluations, wall time
 excluding compilation, particle-steps per second, compile time, peak memory
-(resident set) and solver bytes per particle.
+(resident set) and solver bytes per particle; with ``--backend cuda`` also
+the device memory the run holds (free memory before the model is built minus
+free memory after the timed steps).
 
     python benchmarks/bench_dambreak.py --dp 0.0085 --steps 100 --precision float32
 
@@ -21,6 +23,23 @@ import json
 import resource
 import sys
 import time
+
+
+def device_free_bytes(backend):
+    """Free memory on the current CUDA device [bytes] (None on the CPU, or under the simulator)."""
+    if backend != "cuda":
+        return None
+    from numba import cuda
+
+    cuda.synchronize()
+    free = cuda.current_context().get_memory_info().free
+    return int(free) if free != float("inf") else None
+
+
+def device_total_bytes():
+    from numba import cuda
+
+    return int(cuda.current_context().get_memory_info().total)
 
 
 def main(argv=None):
@@ -47,6 +66,7 @@ def main(argv=None):
 
     case = dam_break_dualsphysics(dp=args.dp, precision=args.precision)
     case = case.with_options(integrator=args.integrator, cells_per_support=args.cells_per_support)
+    free_before = device_free_bytes(args.backend)
     model = build_model(case, backend=args.backend)
     sim = Simulation(model, end_time=1e9)
     t0 = time.perf_counter()
@@ -59,6 +79,7 @@ def main(argv=None):
 
         cuda.synchronize()
     wall = time.perf_counter() - t1
+    free_after = device_free_bytes(args.backend)
     n = model.n_total
     evals = args.steps * sim.integrator.rate_evaluations_per_step
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
@@ -79,6 +100,11 @@ def main(argv=None):
         "bytes_per_particle": model.nbytes() / n,
         "peak_rss_bytes_per_particle": peak / n,
     }
+    if free_before is not None and free_after is not None:
+        # what the run holds on the GPU: its arrays, the sort's buffers, the kernels' code and Numba's pools
+        out["device_bytes"] = free_before - free_after
+        out["device_bytes_per_particle"] = (free_before - free_after) / n
+        out["device_total_bytes"] = device_total_bytes()
     json.dump(out, sys.stdout, indent=2)
     print()
 
