@@ -1,0 +1,40 @@
+"""The engine benchmark script (`benchmarks/bench_dambreak.py`), which the GPU session of issue 3 runs
+unattended: one JSON object whose counts are the case's, and bad input as a one-line error, exit 2."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_dambreak.py"
+
+
+def run(*args):
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    return subprocess.run([sys.executable, str(SCRIPT), *args], capture_output=True, text=True, env=env,
+                          timeout=600)
+
+
+def test_bench_reports_the_case_it_ran():
+    from shoal.cases import dam_break_dualsphysics
+
+    out = run("--dp", "0.03", "--steps", "3", "--warmup", "1")
+    assert out.returncode == 0, out.stderr[-2000:]
+    r = json.loads(out.stdout)
+    case = dam_break_dualsphysics(dp=0.03, precision="float32")
+    assert r["particles"] == case.n_particles and r["fluid_particles"] == case.n_fluid
+    assert r["steps"] == 3 and r["force_evaluations"] == 3  # Verlet: one force evaluation a step
+    assert abs(r["particle_steps_per_second"] * r["wall_seconds"] - 3 * r["particles"]) < 1e-3 * 3 * r["particles"]
+    # float32 state: at least position, velocity (3 x 4 B each), density, rates (3 + 1 floats) per particle
+    assert 44 <= r["bytes_per_particle"] < 400
+    assert "device_bytes" not in r  # only measured on a GPU
+
+
+def test_bench_bad_input_is_one_line_exit_2():
+    out = run("--dp", "0.05", "--steps", "1")
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and out.stderr.startswith("bench_dambreak: error: dp = 0.05 m is too coarse")
+    assert out.stdout == ""
