@@ -14,6 +14,13 @@ fails to unify, a float64 literal that turns a float32 kernel's arithmetic doubl
    (`shoal.backends.loops.PHYSICS_LOOPS`) also for the scheme specialisations of the built-in cases
    (the argument types of a loop depend on the precision only).
 
+3. `float64_in_pair_loops(ptx)`: the double-precision instructions inside the innermost loops of
+   a compiled kernel (in `rates`, the loops over a particle's neighbours), other than the ones
+   meant to be there: positions are float64 in every precision, so a float32 pair loop loads the
+   neighbour's coordinates as float64, subtracts and rounds the difference to float32
+   (``ld.global.f64``, ``sub.f64``, ``cvt.rn.f32.f64``), with a periodic axis or a symmetry plane
+   shifts or mirrors it first (``add.f64``, ``selp.f64``), and nothing else.
+
 NVVM comes from the CUDA toolkit wheels of ``numba-cuda[cu13]`` (the test extra); no driver is
 needed: the device functions' compile asks for the current device's compute capability, which is
 answered with `cc` while compiling.
@@ -177,6 +184,8 @@ def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None):
     missing : list of str
         Physics loops of `extra_specs` whose argument types were never logged for their precision
         (not compiled: a parity test in that precision should launch them).
+    rates_ptx : dict of str to (SchemeSpec, str)
+        The PTX of each `rates` kernel compiled, by its label in `done`.
     """
     import time
 
@@ -208,7 +217,7 @@ def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None):
             else:
                 jobs[(("loop", spec, name), args)] = None
     backends, fixed = {}, None
-    done = []
+    done, rates_ptx = [], {}
     with _device_cc(cc):
         for key, args in jobs:
             if key[0] == "loop":
@@ -228,8 +237,54 @@ def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None):
             ptx, _ = cuda.compile_ptx(fn, sig, cc=tuple(cc))
             if key[0] == "loop" and key[2] == "rates":  # the hot kernel: to machine code, for its resources
                 label += " " + machine_code_resources(ptx, cc)
+                rates_ptx[label] = (key[1], ptx)
             done.append((label, time.perf_counter() - t0))
-    return done, sorted(set(missing))
+    return done, sorted(set(missing)), rates_ptx
+
+
+POSITION_F64 = frozenset({"ld.global.f64", "sub.f64", "cvt.rn.f32.f64"})
+"""The double-precision instructions a float32 pair loop is meant to have: the float64 positions'
+difference, rounded to float32 (`shoal.physics` takes pair distances that way)."""
+IMAGE_F64 = frozenset({"add.f64", "selp.f64"})
+"""And with a periodic axis or a symmetry plane: the neighbour's image position, shifted by the
+period or mirrored in the plane, in float64 like every position (adds and selects, no products)."""
+
+
+def allowed_f64(spec):
+    """The double-precision instructions a float32 pair loop of scheme `spec` may hold."""
+    return POSITION_F64 | IMAGE_F64 if (spec.periodic or spec.symmetry) else POSITION_F64
+
+
+def float64_in_pair_loops(ptx, allowed=POSITION_F64):
+    """{opcode: count} of the double-precision instructions (opcodes with ``.f64``) in the innermost
+    loops of `ptx` that are not in `allowed`, and the number of innermost loops.
+
+    A loop is a backward branch (``bra`` to a label above it); innermost loops contain no other
+    loop. In a `rates` kernel these are the walks over a particle's neighbour candidates: what runs
+    once per pair.
+    """
+    import collections
+    import re
+
+    lines = ptx.splitlines()
+    labels = {}
+    for k, line in enumerate(lines):
+        m = re.match(r"^(\$L__BB\d+_\d+):", line)
+        if m:
+            labels[m.group(1)] = k
+    loops = []
+    for k, line in enumerate(lines):
+        m = re.search(r"\bbra(?:\.uni)?\s+(\$L__BB\d+_\d+);", line)
+        if m and labels.get(m.group(1), len(lines)) < k:
+            loops.append((labels[m.group(1)], k))
+    inner = [a for a in loops if not any(b != a and a[0] <= b[0] and b[1] <= a[1] for b in loops)]
+    extra = collections.Counter()
+    for a, b in inner:
+        for line in lines[a:b + 1]:
+            m = re.match(r"\s*(?:@!?%p\d+\s+)?([a-z][\w.]*)\s", line)
+            if m and ".f64" in m.group(1) and m.group(1) not in allowed:
+                extra[m.group(1)] += 1
+    return dict(extra), len(inner)
 
 
 def machine_code_resources(ptx, cc):

@@ -33,13 +33,27 @@ def _compile_check(log, extra_loops):
     except Exception as exc:  # the toolkit wheels of numba-cuda[cu13] (the test extra) are missing
         pytest.skip(f"NVVM not found, the PTX compile check is skipped: {exc}")
     specs = cuda_kernels.builtin_specs()
-    done, missing = cuda_kernels.compile_logged(log, (9, 0), extra_specs=specs, extra_loops=extra_loops)
+    done, missing, rates_ptx = cuda_kernels.compile_logged(log, (9, 0), extra_specs=specs,
+                                                           extra_loops=extra_loops)
     print(f"compiled {len(done)} kernels to PTX for sm_90 in {sum(t for _, t in done):.1f} s "
           f"({len(specs)} built-in specialisations); the rates kernels in machine code:")
     for label, _ in done:
         if "registers" in label:
             print("  " + label)
     assert not missing, f"loops never launched in their precision by this module: {missing}"
+    # float32 on the GPU means float32 arithmetic per pair: no float64 literal or promotion in the
+    # neighbour loops, only the float64 positions' difference (the float64 kernels show the check bites)
+    n32 = 0
+    for label, (spec, ptx) in rates_ptx.items():
+        extra, loops = cuda_kernels.float64_in_pair_loops(ptx, cuda_kernels.allowed_f64(spec))
+        assert loops >= 1, label
+        if spec.precision == "float32":
+            n32 += 1
+            assert not extra, f"float64 arithmetic per pair in {label}: {extra}"
+        else:
+            assert extra.get("fma.rn.f64", 0) + extra.get("mul.f64", 0) + extra.get("mul.rn.f64", 0) > 10, label
+    assert n32 >= 5
+    print(f"{n32} float32 rates kernels: no float64 arithmetic per pair beyond the positions' difference")
     return done
 
 
