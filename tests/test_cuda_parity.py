@@ -80,6 +80,20 @@ def test_every_builtin_loop_compiles_for_a_gpu(tmp_path):
     assert len(done) > 200
 
 
+@needs_cuda
+def test_models_of_one_scheme_share_their_compiled_kernels():
+    """CUDA kernels are compiled at their first launch and not cached on disk, so a second model of the
+    same scheme must reuse the first one's kernels (compiled once per process), and a model of another
+    scheme must not (each specialisation has its own)."""
+    case = dam_break_2d(dp=A / 6, a=A, layers=2, options=SPHOptions(precision="float32"))
+    a, b = build_model(case, "cuda"), build_model(case, "cuda")
+    other = build_model(dam_break_2d(dp=A / 6, a=A, layers=2, options=SPHOptions(precision="float64")), "cuda")
+    for name in ("rates", "pr2", "verlet", "probe"):
+        assert getattr(a.backend, name).kernel is getattr(b.backend, name).kernel
+        assert getattr(a.backend, name).kernel is not getattr(other.backend, name).kernel
+    assert a.backend is not b.backend and a.backend._bad is not b.backend._bad  # per-model device state
+
+
 def _by_id(model, array):
     h = model.host(array)
     out = np.zeros_like(h)

@@ -16,8 +16,10 @@ how the parity tests run in CI.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -74,6 +76,25 @@ def make_for_each(fn):
     return run
 
 
+_LOOPS = {}
+"""{SchemeSpec: the loop kernels of `attach_loops`}: built once per process and shared by every
+`CUDABackend` of that scheme. Kernels are not cached on disk, so each new set of closures would be
+compiled again by NVVM at its first launch (a fraction of a second per kernel, tens of kernels a
+scheme): a process that builds several models of one scheme (a parameter sweep, the parity tests on
+a GPU) compiles them once."""
+
+
+def _loops_for(spec):
+    """The loop kernels of `spec` (a namespace), built at the first call for that spec."""
+    ns = _LOOPS.get(spec)
+    if ns is None:
+        ns = SimpleNamespace()
+        attach_loops(ns, cuda_device_jit, make_for_each, spec, "cuda")
+        _LOOPS[spec] = ns
+    return ns
+
+
+@functools.lru_cache(maxsize=None)
 def _reductions():
     @barrier_free
     @cuda.jit
@@ -112,6 +133,7 @@ def _reductions():
     return accel2, first_bad, max_reduce
 
 
+@functools.lru_cache(maxsize=None)
 def _row_kernels():
     """Kernels that move rows of particle arrays to and from a float64 buffer (`pack_rows`): one
     thread per row (halos are small; the CUDA simulator runs a Python thread per GPU thread)."""
@@ -186,7 +208,8 @@ class CUDABackend:
             raise InputError(f"backend 'cuda' is not available here: {why}; use --backend cpu")
         self._cuda = cuda
         self.spec = spec
-        attach_loops(self, cuda_device_jit, make_for_each, spec, "cuda")
+        for name, value in vars(_loops_for(spec)).items():  # compiled once per process and scheme
+            setattr(self, name, value)
         self._accel2, self._first_bad, self._max = _reductions()
         self._rows = None  # the row kernels, built on first use (MPI runs only)
         self._a2 = None
