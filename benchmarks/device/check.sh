@@ -8,7 +8,7 @@
 # Stages:
 #   info   GPU, driver, Python/Numba/numba-cuda versions, `shoal info`                -> $OUT/info.txt
 #   bench  the DualSPHysics 3D dam break (bench_dambreak.py --backend cuda, float32) at about
-#          1M, 5M and 20M particles                                                     -> $OUT/bench.jsonl
+#          1M, 5M and 20M particles: particle-steps/s, compile s, device_bytes_per_particle -> $OUT/bench.jsonl
 #   tests  the CUDA parity, grid and MPI tests on the hardware                          -> $OUT/tests.log
 #   seed   the seed cases with --backend cuda: the tidal bore at the paper's dp = 5 mm (3D) and the
 #          rip-current basin at the paper's dp = 0.02 m (4.1M particles), short runs      -> $OUT/seed.log
