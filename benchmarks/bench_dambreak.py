@@ -25,21 +25,15 @@ import sys
 import time
 
 
-def device_free_bytes(backend):
-    """Free memory on the current CUDA device [bytes] (None on the CPU, or under the simulator)."""
+def device_memory(backend):
+    """(free, total) memory of the current CUDA device [bytes] (None on the CPU, or under the simulator)."""
     if backend != "cuda":
         return None
     from numba import cuda
 
     cuda.synchronize()
-    free = cuda.current_context().get_memory_info().free
-    return int(free) if free != float("inf") else None
-
-
-def device_total_bytes():
-    from numba import cuda
-
-    return int(cuda.current_context().get_memory_info().total)
+    info = cuda.current_context().get_memory_info()
+    return None if info.free == float("inf") else (int(info.free), int(info.total))
 
 
 def main(argv=None):
@@ -66,7 +60,7 @@ def main(argv=None):
 
     case = dam_break_dualsphysics(dp=args.dp, precision=args.precision)
     case = case.with_options(integrator=args.integrator, cells_per_support=args.cells_per_support)
-    free_before = device_free_bytes(args.backend)
+    mem_before = device_memory(args.backend)
     model = build_model(case, backend=args.backend)
     sim = Simulation(model, end_time=1e9)
     t0 = time.perf_counter()
@@ -79,7 +73,7 @@ def main(argv=None):
 
         cuda.synchronize()
     wall = time.perf_counter() - t1
-    free_after = device_free_bytes(args.backend)
+    mem_after = device_memory(args.backend)
     n = model.n_total
     evals = args.steps * sim.integrator.rate_evaluations_per_step
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
@@ -100,11 +94,11 @@ def main(argv=None):
         "bytes_per_particle": model.nbytes() / n,
         "peak_rss_bytes_per_particle": peak / n,
     }
-    if free_before is not None and free_after is not None:
+    if mem_before is not None and mem_after is not None:
         # what the run holds on the GPU: its arrays, the sort's buffers, the kernels' code and Numba's pools
-        out["device_bytes"] = free_before - free_after
-        out["device_bytes_per_particle"] = (free_before - free_after) / n
-        out["device_total_bytes"] = device_total_bytes()
+        out["device_bytes"] = mem_before[0] - mem_after[0]
+        out["device_bytes_per_particle"] = out["device_bytes"] / n
+        out["device_total_bytes"] = mem_after[1]
     json.dump(out, sys.stdout, indent=2)
     print()
 

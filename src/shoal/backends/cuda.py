@@ -76,21 +76,15 @@ def make_for_each(fn):
     return run
 
 
-_LOOPS = {}
-"""{SchemeSpec: the loop kernels of `attach_loops`}: built once per process and shared by every
-`CUDABackend` of that scheme. Kernels are not cached on disk, so each new set of closures would be
-compiled again by NVVM at its first launch (a fraction of a second per kernel, tens of kernels a
-scheme): a process that builds several models of one scheme (a parameter sweep, the parity tests on
-a GPU) compiles them once."""
-
-
+@functools.lru_cache(maxsize=None)
 def _loops_for(spec):
-    """The loop kernels of `spec` (a namespace), built at the first call for that spec."""
-    ns = _LOOPS.get(spec)
-    if ns is None:
-        ns = SimpleNamespace()
-        attach_loops(ns, cuda_device_jit, make_for_each, spec, "cuda")
-        _LOOPS[spec] = ns
+    """The loop kernels of `attach_loops` for `spec` (a namespace), built once per process and shared
+    by every `CUDABackend` of that scheme. Kernels are not cached on disk, so each new set of closures
+    would be compiled again by NVVM at its first launch (a fraction of a second per kernel, tens of
+    kernels a scheme): a process that builds several models of one scheme (a parameter sweep, the
+    parity tests on a GPU) compiles them once."""
+    ns = SimpleNamespace()
+    attach_loops(ns, cuda_device_jit, make_for_each, spec, "cuda")
     return ns
 
 
