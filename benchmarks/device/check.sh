@@ -1,72 +1,121 @@
 #!/usr/bin/env bash
 # Issue 3's hardware checks in one prepared command, for a session that is lent a GPU (the `device` tool).
-# Each stage has its own time limit, so one that hangs or fails leaves the others' results; every result
-# lands in $OUT (at most 8 files come back). Here, first: bash benchmarks/device/fetch_wheels.sh
+# Each stage has its own time limit, cut to what is left of DEADLINE seconds (default 560) since the
+# start, so one that hangs or fails leaves the others' results; every result lands in $OUT (at most 8
+# files come back). Here, first: bash benchmarks/device/fetch_wheels.sh
 # Then, through the device tool, from the repository root (carry [".whl"], timeout_s 600):
-#     bash benchmarks/device/check.sh                  # all stages, about 9 minutes
-#     bash benchmarks/device/check.sh bench            # or some of: info bench tests seed
+#     bash benchmarks/device/check.sh                  # info bench par cpu: about 8 minutes
+#     bash benchmarks/device/check.sh bench            # or some of: info bench tests seed par cpu rip
 # Stages:
-#   info   GPU, driver, Python/Numba/numba-cuda versions, `shoal info`                -> $OUT/info.txt
+#   info   GPU, driver, Python/Numba/numba-cuda versions, a one-kernel smoke test (tries CUDA_HOME=
+#          /usr/local/cuda and nvJitLink when the default NVVM fails, and keeps what works), `shoal info`
+#                                                                                        -> $OUT/info.txt
 #   bench  the DualSPHysics 3D dam break (bench_dambreak.py --backend cuda, float32) at about
 #          1M, 5M and 20M particles: particle-steps/s, compile s, device_bytes_per_particle -> $OUT/bench.jsonl
-#   tests  the CUDA parity, grid and MPI tests on the hardware                          -> $OUT/tests.log
-#   seed   the seed cases with --backend cuda: the tidal bore at the paper's dp = 5 mm (3D) and the
-#          rip-current basin at the paper's dp = 0.02 m (4.1M particles), short runs      -> $OUT/seed.log
+#   tests  the CUDA parity and grid tests on the hardware (8 xdist workers)              -> $OUT/tests.log
+#   seed   the seed cases with --backend cuda at the papers' resolutions, short runs: the tidal bore at
+#          dp = 5 mm (3D, half width with the symmetry plane, 580k particles) and the rip-current basin
+#          at dp = 0.02 m (4.15M particles)                                              -> $OUT/seed.log
+#   par    tests and seed at once (neither is timed; the GPU and 16 cores are shared)
+#   cpu    the same dam break on the CPU backend with all the machine's cores, ~1M particles, for the
+#          speed-up on one node                                                          -> $OUT/bench.jsonl
 #   rip    issue 6 item 5: the rip-current validation run (validation/rip-current/run.py) at RIP_DP
 #          (default 0.04 m: 437,262 particles, 36,571 steps to t = 22.5 s, 1.6e10 particle-steps; 0.03 m:
 #          896,148 and 48,761, 4.4e10) on the GPU within RIP_LIMIT s (default 480), then its analysis
 #          -> $OUT/rip.log, results.json, meanflow_current.png, meanflow_setup.png (not in the default set)
 set -u
 OUT=${OUT:-runs/device}
+DEADLINE=${DEADLINE:-560}
 mkdir -p "$OUT"
-stages=("$@"); [ ${#stages[@]} -eq 0 ] && stages=(info bench tests seed)
+stages=("$@"); [ ${#stages[@]} -eq 0 ] && stages=(info bench par cpu)
 for s in "${stages[@]}"; do
-  case $s in info|bench|tests|seed|rip) ;;
-  *) echo "check.sh: unknown stage '$s'; allowed: info bench tests seed rip" >&2; exit 2 ;; esac
+  case $s in info|bench|tests|seed|par|cpu|rip) ;;
+  *) echo "check.sh: unknown stage '$s'; allowed: info bench tests seed par cpu rip" >&2; exit 2 ;; esac
 done
 export PYTHONUNBUFFERED=1
-if [ -d .whl ]; then
+if [ -d .whl ] && [ ! -e /tmp/site/.shoal-wheels ]; then
     python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl \
         || { echo "check.sh: the carried wheels did not install" | tee -a "$OUT/info.txt"; exit 2; }
-    export PATH=/tmp/site/bin:$PATH
-    export PYTHONPATH=/tmp/site
+    touch /tmp/site/.shoal-wheels
 fi
+if [ -d /tmp/site ]; then export PATH=/tmp/site/bin:$PATH PYTHONPATH=/tmp/site; fi
 export PYTHONPATH=$PWD/src${PYTHONPATH:+:$PYTHONPATH}
 PY=python3
-stamp() { echo "== $(date -u +%H:%M:%S) $*"; }
+stamp() { echo "== $(date -u +%H:%M:%S) t=${SECONDS}s $*"; }
+# limit L: L seconds, or what is left before the deadline (at least 5)
+limit() { local left=$((DEADLINE - SECONDS)); [ "$left" -lt 5 ] && left=5; [ "$1" -lt "$left" ] && echo "$1" || echo "$left"; }
+smoke() {  # compile and launch one kernel; prints OK on success
+  timeout 90 $PY - <<'PYEOF'
+import numpy as np
+from numba import cuda
+@cuda.jit
+def k(a):
+    i = cuda.grid(1)
+    if i < a.size:
+        a[i] = np.float32(2.0) * i
+try:
+    a = cuda.device_array(1000, dtype=np.float32)
+    k[8, 128](a)
+    assert a.copy_to_host()[999] == 1998.0
+except Exception as exc:
+    print("smoke failed:", type(exc).__name__, str(exc).strip().splitlines()[-1:])
+    raise SystemExit(1)
+print("SMOKE OK")
+PYEOF
+}
+bench() {  # dp steps limit [backend threads]
+  local be=${4:-cuda} extra=()
+  [ "$be" = cpu ] && extra=(--threads "$5")
+  stamp "bench $be dp=$1 steps=$2"
+  timeout "$(limit "$3")" $PY benchmarks/bench_dambreak.py --backend "$be" --dp "$1" --steps "$2" --precision float32 \
+    "${extra[@]}" > "$OUT/bench_one.json" 2> "$OUT/bench_err_$1.txt"
+  local rc=$?
+  if [ $rc -eq 0 ]; then $PY -c "import json,sys; print(json.dumps(json.load(open(sys.argv[1]))))" \
+       "$OUT/bench_one.json" | tee -a "$OUT/bench.jsonl"; rm -f "$OUT/bench_err_$1.txt"
+  else echo "{\"backend\": \"$be\", \"dp\": $1, \"failed\": $rc}" | tee -a "$OUT/bench.jsonl"; tail -5 "$OUT/bench_err_$1.txt"; fi
+  rm -f "$OUT/bench_one.json"
+}
+tests() {
+  stamp tests
+  timeout "$(limit "${1:-300}")" $PY -m pytest tests/test_cuda_parity.py tests/test_cuda_grid.py -q -rs -n 8 \
+      -p no:cacheprovider > "$OUT/tests.log" 2>&1
+  echo "pytest exit $?" >> "$OUT/tests.log"
+}
+seed() {
+  local each=${1:-150}
+  { stamp "seed tidal-bore dp=0.005 half width to 0.1 s";
+    timeout "$(limit "$each")" $PY -m shoal run tidal-bore --backend cuda --dp 0.005 --half --end-time 0.1 \
+        --no-progress --no-plot --out /tmp/seed-bore --overwrite; echo "exit $?"; tail -3 /tmp/seed-bore/run.log 2>/dev/null
+    stamp "seed rip-current dp=0.02 to 0.05 s";
+    timeout "$(limit "$each")" $PY -m shoal run rip-current --backend cuda --dp 0.02 --end-time 0.05 --no-progress \
+        --no-plot --out /tmp/seed-rip --overwrite; echo "exit $?"; tail -3 /tmp/seed-rip/run.log 2>/dev/null
+    stamp "seed done"
+  } > "$OUT/seed.log" 2>&1
+}
 for s in "${stages[@]}"; do
   case $s in
   info)
     { stamp info; nvidia-smi; $PY -c "import sys, numba, numba_cuda, numpy; print(sys.version); print('numba', numba.__version__, 'numba-cuda', numba_cuda.__version__, 'numpy', numpy.__version__)";
+      ls -d /usr/local/cuda*/nvvm 2>/dev/null
+      if smoke; then echo "smoke: default NVVM works"
+      elif CUDA_HOME=/usr/local/cuda smoke; then export CUDA_HOME=/usr/local/cuda; echo "smoke: works with CUDA_HOME=/usr/local/cuda"
+      elif CUDA_HOME=/usr/local/cuda NUMBA_CUDA_ENABLE_PYNVJITLINK=1 smoke; then
+        export CUDA_HOME=/usr/local/cuda NUMBA_CUDA_ENABLE_PYNVJITLINK=1; echo "smoke: works with CUDA_HOME and nvJitLink"
+      else echo "smoke: FAILED every way"; fi
       timeout 120 $PY -m shoal info; } > "$OUT/info.txt" 2>&1
-    tail -25 "$OUT/info.txt" ;;
+    tail -22 "$OUT/info.txt"
+    ;;
   bench)
     # dp for about 1M, 5M and 20M particles (173,531 at dp = 0.0085 m; N ~ dp^-3); steps, time limit [s]
-    for spec in "0.00475 200 100" "0.00278 200 150" "0.00175 100 240"; do
-      set -- $spec
-      stamp "bench dp=$1 steps=$2"
-      timeout "$3" $PY benchmarks/bench_dambreak.py --backend cuda --dp "$1" --steps "$2" --precision float32 \
-        > "$OUT/bench_one.json" 2> "$OUT/bench_err.txt"
-      rc=$?
-      if [ $rc -eq 0 ]; then $PY -c "import json,sys; print(json.dumps(json.load(open(sys.argv[1]))))" \
-           "$OUT/bench_one.json" | tee -a "$OUT/bench.jsonl"
-      else echo "{\"dp\": $1, \"failed\": $rc}" | tee -a "$OUT/bench.jsonl"; tail -5 "$OUT/bench_err.txt"; fi
-    done
-    rm -f "$OUT/bench_one.json" ;;
+    bench 0.00475 200 90; bench 0.00278 200 120; bench 0.00175 50 180 ;;
+  cpu)
+    bench 0.00475 20 120 cpu "$(nproc)" ;;
   tests)
-    stamp tests
-    timeout 300 $PY -m pytest tests/test_cuda_parity.py tests/test_cuda_grid.py tests/test_mpi_cuda.py -q -rs \
-        -p no:cacheprovider > "$OUT/tests.log" 2>&1
-    echo "pytest exit $?" | tee -a "$OUT/tests.log"; tail -15 "$OUT/tests.log" ;;
+    tests 300; tail -15 "$OUT/tests.log" ;;
   seed)
-    { stamp "seed tidal-bore dp=0.005 3D to 0.3 s";
-      timeout 150 $PY -m shoal run tidal-bore --backend cuda --dp 0.005 --end-time 0.3 --no-progress --no-plot \
-          --out /tmp/seed-bore --overwrite; echo "exit $?"; tail -3 /tmp/seed-bore/run.log 2>/dev/null
-      stamp "seed rip-current dp=0.02 to 0.05 s";
-      timeout 150 $PY -m shoal run rip-current --backend cuda --dp 0.02 --end-time 0.05 --no-progress --no-plot \
-          --out /tmp/seed-rip --overwrite; echo "exit $?"; tail -3 /tmp/seed-rip/run.log 2>/dev/null
-    } > "$OUT/seed.log" 2>&1
-    tail -20 "$OUT/seed.log" ;;
+    seed 150; tail -20 "$OUT/seed.log" ;;
+  par)
+    tests 240 & seed 120; wait; tail -12 "$OUT/tests.log"; tail -14 "$OUT/seed.log" ;;
   rip)
     { stamp "rip-current dp=${RIP_DP:-0.04}";
       timeout "${RIP_LIMIT:-480}" $PY validation/rip-current/run.py --out /tmp/rip --dp "${RIP_DP:-0.04}" \
@@ -76,3 +125,4 @@ for s in "${stages[@]}"; do
     tail -30 "$OUT/rip.log" ;;
   esac
 done
+stamp "check.sh done"
