@@ -24,6 +24,15 @@ import os as _os
 # short spin keeps idle-machine speed and removes that collapse.
 _os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
+import numpy as _np  # noqa: E402
+
+# numba-cuda (0.30.4 and earlier) registers an overload of numpy.row_stack when
+# numba.cuda is first imported; NumPy 2.5 removed row_stack (deprecated in 2.0
+# as an alias of vstack), so `from numba import cuda` fails there with an
+# AttributeError (seen on a GPU machine with NumPy 2.5.2). Restore the alias.
+if not hasattr(_np, "row_stack"):
+    _np.row_stack = _np.vstack
+
 from .cache_lock import install as _install_cache_lock  # noqa: E402
 
 # Processes that share Numba's on-disk cache (MPI ranks, sweeps, test workers)
