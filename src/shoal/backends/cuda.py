@@ -19,6 +19,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+import warnings
 from types import SimpleNamespace
 
 import numpy as np
@@ -35,6 +36,11 @@ except Exception:  # pragma: no cover - numba-cuda missing
     cuda = None
 else:
     prepare()  # under the simulator only: see shoal.backends.simulator
+    # The small launches are by design (a reduction's last pass over its block partials, the few
+    # thousand particles of a moving wall, the probes); numba-cuda warns on every launch of under 128
+    # blocks, which filled the terminal of each GPU run (seen on an H200). The kernels over all the
+    # particles are launched on thousands of blocks.
+    warnings.filterwarnings("ignore", message=r"Grid size \d+ will likely result in GPU under-utilization")
 
 THREADS = 128
 
