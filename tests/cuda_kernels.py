@@ -173,9 +173,12 @@ def builtin_specs():
     return sorted(specs, key=repr)
 
 
-def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None):
+def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None, one_per_loop=False):
     """Compile every kernel logged in `path` (and each loop for `extra_specs`: those named in
-    `extra_loops`, default all) to PTX for `cc`.
+    `extra_loops`, default all) to PTX for `cc`. With `one_per_loop`, a physics loop other than
+    `rates` logged for several scheme specialisations is compiled for the first of each precision
+    and dimension only (every loop's source compiled at least once per precision and dimension;
+    every `rates`, the kernels outside the loops and the `extra_specs` loops all compiled).
 
     Returns
     -------
@@ -201,8 +204,13 @@ def compile_logged(path, cc=(9, 0), extra_specs=(), extra_loops=None):
     for key, args in log:
         if key[0] == "loop":
             loop_types.setdefault((key[1].precision, key[2]), args)
-    jobs = {}
+    jobs, seen = {}, set()
     for key, args in log:
+        if one_per_loop and key[0] == "loop" and key[2] != "rates":
+            kind = (key[2], key[1].precision, key[1].dim)
+            if kind in seen:
+                continue
+            seen.add(kind)
         jobs[(key, args)] = None
     from shoal.backends.loops import PHYSICS_LOOPS
 
