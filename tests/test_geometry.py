@@ -266,3 +266,30 @@ def test_slab_generation_equals_one_piece(monkeypatch):
     sliced = make(3, solids, fluids, dp=0.05).particles()
     np.testing.assert_array_equal(whole.positions, sliced.positions)
     np.testing.assert_array_equal(whole.body, sliced.body)
+
+
+@pytest.mark.parametrize("factory", ["dam-break-dualsphysics", "tidal-bore-piers", "rip-current"])
+def test_slabs_and_threads_generate_the_same_particles(monkeypatch, factory):
+    """The lattice is generated in slabs along x, on up to 8 threads; neither the cut nor the threads
+    change a particle. Cases with walls of explicit layers (chessboard distance: the DualSPHysics tank
+    and column), of the support's thickness (Euclidean distance: the piers) and repulsive walls on the
+    fine lattice (the rip-current basin's variant)."""
+    import sys
+
+    from shoal.cases import get_case
+
+    gen = sys.modules["shoal.geometry.generate"]
+    kwargs = {"dam-break-dualsphysics": dict(dp=0.02), "tidal-bore-piers": dict(dp=0.02, half=True),
+              "rip-current": dict(dp=0.075, boundary="repulsive")}[factory]
+
+    def particles(slab_nodes, workers):
+        monkeypatch.setattr(gen, "_SLAB_NODES", slab_nodes)
+        monkeypatch.setattr(gen, "_slab_workers", lambda n: min(n, workers))
+        p = get_case(factory, **kwargs).particles()
+        return p.positions, p.kinds, p.body, p.region, p.spacing
+
+    whole = particles(10**9, 1)
+    assert len(whole[0]) > 5000
+    for cut in (particles(20_000, 1), particles(20_000, 4)):
+        for a, b in zip(whole, cut):
+            np.testing.assert_array_equal(a, b)
