@@ -95,3 +95,26 @@ def test_tidal_bore_length_and_gauges():
         get_case("tidal-bore", dp=0.01, dim=2, length=6.0, gauges_x=[7.0])
     with pytest.raises(InputError, match="length"):
         get_case("tidal-bore", dp=0.01, dim=2, length=-1.0)
+
+
+@pytest.mark.parametrize("layers,tol", [(1, 0.01), (3, 0.03)])
+def test_dualsphysics_dam_break_count_estimate_is_the_generated_count(layers, tol):
+    """The memory check of the benchmark case counts its water and walls, not the tank's volume."""
+    from shoal.cases.dam_break import dam_break_dualsphysics, dualsphysics_particle_estimate
+
+    n = len(dam_break_dualsphysics(dp=0.01, layers=layers).particles().positions)
+    assert abs(dualsphysics_particle_estimate(0.01, layers) / n - 1) < tol, n
+
+
+def test_memory_check_admits_what_fits_and_refuses_what_does_not(monkeypatch):
+    """On a 24 GiB machine the 20.8M-particle benchmark (dp = 1.6 mm; measured on the GPU machine: 205
+    host bytes a particle at the peak) is admitted; the tank's volume was counted before, 5.7 times too
+    many, and refused it. Half that dp (166M particles, 8 times the memory) is refused in one line."""
+    from shoal.cases import _checks
+    from shoal.cases.dam_break import dam_break_dualsphysics
+
+    monkeypatch.setattr(_checks, "physical_memory", lambda: 24 * 2**30)
+    dam_break_dualsphysics(dp=0.0016)
+    with pytest.raises(InputError, match=r"about 1\.6\de\+08 particles would be generated.*use a larger dp") as err:
+        dam_break_dualsphysics(dp=0.0008)
+    assert "\n" not in str(err.value)
