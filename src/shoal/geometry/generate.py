@@ -13,9 +13,9 @@ a shell exactly as thick as its layers, kept whole, corners included):
 * **dynamic boundary particles** (several layers): the solid nodes whose
   Euclidean distance to the nearest non-solid node is below the kernel
   support 2h (default), i.e. every wall particle some fluid particle can
-  see; or, with ``layers = n``, within n spacings (Euclidean, plus the
-  corner nodes within n spacings in the chessboard metric, so box corners
-  are filled);
+  see; or, with ``layers = n``, within n spacings in the chessboard metric
+  (diagonal steps count one, so box corners are filled; it holds every node
+  within n spacings Euclidean);
 * **repulsive boundary particles** (Monaghan & Kajtar 2009): a single
   layer on a lattice of spacing dp/2 (same origin), the fine solid nodes
   with a face neighbour outside the solids.
@@ -25,8 +25,8 @@ Distances come from the exact Euclidean distance transform
 mask, computed slab by slab along x with a halo, so memory stays bounded
 for basins of millions of particles; the slabs are built on up to 8 threads
 (NumPy and SciPy release the GIL on large arrays), and each distance
-transform only where a solid needs it. The DualSPHysics dam break at 20.8M
-particles: 34.5 s before both, 14.6 s after, on 2 cores. Nodes are classified at points nudged
+transform only where a solid needs it (the DualSPHysics dam break at 20.8M
+particles: 14.6 s on 2 cores). Nodes are classified at points nudged
 by 1e-7 dp, so a node lying exactly on a shape's face is decided the same
 way everywhere (faces behave as half-open intervals [lo, hi)).
 """
