@@ -252,6 +252,16 @@ CORPUS = [
     ("tracker-id-not-a-particle", {"case.toml": probe('type = "tracker"\nname = "t"\nids = [5, 100000]\n'
                                                       'interval = 0.005')}, ["run", "{d}/case.toml", *RUN],
      ["probes[0] (tracker 't')", "ids [100000] are no particles"]),
+    ("pressure-sensor-outside", {"case.toml": probe('type = "pressure"\nname = "wall"\npoints = [[0.3, 0.0, -2.0]]\n'
+                                                    'interval = 0.005')}, None,
+     ["probes[0] (pressure 'wall')", "points[0] = [0.3, 0.0, -2.0]", "outside the domain"]),
+    ("pressure-sensor-area-without-normal", {"case.toml": probe('type = "pressure"\nname = "wall"\n'
+                                                                'points = [[0.3, 0.0, 0.0]]\ndiameter = 0.01\n'
+                                                                'interval = 0.005')}, None,
+     ["probes[0]", "diameter = 0.01 m needs the wall's normal"]),
+    ("pressure-sensor-method", {"case.toml": probe('type = "pressure"\nname = "wall"\npoints = [[0.3, 0.0, 0.0]]\n'
+                                                   'method = "kriging"\ninterval = 0.005')}, None,
+     ["probes[0]", "method", "linear"]),
     ("probe-names-repeated", {"case.toml": probe('type = "maxz"\nname = "m"\nx = 0.3\nradius = 0.1\ninterval = 0.01')
                               + '\n[[probes]]\ntype = "maxz"\nname = "m"\nx = 0.2\nradius = 0.1\ninterval = 0.01\n'},
      None, ["probes[1]", "named 'm'", "same file"]),

@@ -425,6 +425,33 @@ def test_probes_match_cpu():
 
 
 @needs_cuda
+@pytest.mark.parametrize("precision", ["float64", "float32"])
+def test_pressure_sensor_moments_match_cpu(precision):
+    """The fluid's moments around wall pressure sensors (`Model.sensor_moments`) and the pressure fitted
+    from them are the CPU's on the CUDA backend: float64 to 1e-9 relative, float32 to 1e-4."""
+    from shoal.probes.pressure_sensors import fit_pressure
+
+    cpu, gpu = _pair(precision)
+    rng = np.random.default_rng(5)
+    rho = cpu.host(cpu.rho).copy()
+    fluid = cpu.host(cpu.kind) == 0
+    rho[fluid] *= 1 + 0.005 * rng.standard_normal(fluid.sum())  # a pressure field that is not smooth
+    cpu.rho[:] = rho
+    gpu.rho.copy_to_device(rho)
+    pts = np.column_stack([rng.uniform(0.0, 0.2, 8), np.zeros(8), rng.uniform(0.0, 0.35, 8)])
+    pts[:3, 2] = 0.0  # on the bed
+    moms = []
+    for m in (cpu, gpu):
+        m.sort()
+        moms.append(m.sensor_moments(pts))
+    tol = 1e-9 if precision == "float64" else 1e-4
+    assert np.max(np.abs(moms[0])) > 0
+    assert np.max(np.abs(moms[0] - moms[1])) <= tol * np.max(np.abs(moms[0]))
+    p = [fit_pressure(mo, 2, cpu.h, cpu.rho0, cpu.gravity) for mo in moms]
+    assert np.max(np.abs(p[0] - p[1])) <= 10 * tol * np.max(np.abs(p[0]))
+
+
+@needs_cuda
 def test_flow_gauge_matches_cpu():
     """A flow gauge (`shoal.probes.FlowGauge`) reads the CUDA backend's particles as the CPU's: the same
     particles counted through the section after a displacement, the same slab flow rate."""

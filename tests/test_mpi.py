@@ -144,15 +144,18 @@ def _particle_probes(interval):
     x < 0.146 m, 0.16 m wide; 2 ranks: the slab cut starts at x = 0.17 m): the tracker follows the
     fluid particles nearest to the front's foot (it runs across the cut), to the back of the column
     (stays on rank 0) and to the front's top corner, and id 100 (fluid, at the back); the max-z gauge sits
-    on the cut (dry at first: NaN), the run-up range spans it, its y band holds one column of particles."""
-    from shoal.probes import FlowGauge, ForceGauge, MaxZGauge, RunupGauge, Tracker
+    on the cut (dry at first: NaN), the run-up range spans it, its y band holds one column of particles;
+    pressure sensors on the bed under the column (rank 0), on the cut, and beyond it (rank 1)."""
+    from shoal.probes import FlowGauge, ForceGauge, MaxZGauge, PressureSensors, RunupGauge, Tracker
 
     return [Tracker(name="t", start=[(0.128, 0.072, 0.012), (0.012, 0.07, 0.15), (0.13, 0.09, 0.288)], ids=[100],
                     interval=interval),
             MaxZGauge(name="cut", x=0.17, y=0.08, radius=0.03, interval=interval),
             RunupGauge(name="r", x0=0.1, x1=0.5, y=0.07, band=0.02, interval=interval),
             FlowGauge(name="cut", at=0.17, interval=interval),
-            ForceGauge(name="tank", solid="tank", interval=interval)]
+            ForceGauge(name="tank", solid="tank", interval=interval),
+            PressureSensors(name="bed", points=[(0.07, 0.08, 0.0), (0.17, 0.08, 0.0), (0.25, 0.08, 0.0)],
+                            interval=interval)]
 
 
 @pytest.fixture(scope="module")
@@ -272,6 +275,15 @@ def test_particle_probes_two_ranks_match_one(dam_break_runs):
     _, _, fl = _csv_rows(two / "flow_cut.csv")
     assert fl[0, 0] == 0.0 and fl[-1, 0] > 10 * dp**3 and np.all(np.diff(fl[:, 0]) >= 0), fl
     assert np.allclose(fl[:, 0] / dp**3, np.round(fl[:, 0] / dp**3), atol=1e-6)
+    # the pressure sensors on the bed (one on each rank's side and one on the cut): the same readings within
+    # 0.5 % of rho0 g h (h = 2a, the column's height): each point's sums come from one rank; a point left
+    # out or counted twice reads 0 or twice the pressure; the sensor under the column reads it at t = 0
+    h1, t1, p1 = _csv_rows(one / "pressure_bed.csv")
+    h2, t2, p2 = _csv_rows(two / "pressure_bed.csv")
+    scale = 1000 * 9.81 * 2 * case.parameters["a"]
+    assert h1 == h2 and t1 == t2 and np.max(np.abs(p1 - p2)) <= 5e-3 * scale, (p1, p2)
+    assert p1[0, 0] == pytest.approx(scale, rel=0.05) and p1[0, 1] == p1[0, 2] == 0.0, p1[0]
+    assert np.all(p1[-2:, 1] != 0.0), p1  # the surge has reached the sensor on the cut
     # the tracker: id 100, then the fluid particles nearest to the start points (on the lattice at t = 0)
     head, _, tr = _csv_rows(two / "track_t.csv")
     ids = [int(c[2:]) for c in head[1::3]]

@@ -27,10 +27,12 @@ from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeri
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
            "time_series": TimeSeriesMotion}
-from .probes import FlowGauge, ForceGauge, MaxZGauge, PointProbes, RunupGauge, TestPoints, Tracker, WaveGauge
+from .probes import (FlowGauge, ForceGauge, MaxZGauge, PointProbes, PressureSensors, RunupGauge, TestPoints, Tracker,
+                     WaveGauge)
 
 PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker, "maxz": MaxZGauge,
-          "runup": RunupGauge, "flow": FlowGauge, "force": ForceGauge}
+          "runup": RunupGauge, "flow": FlowGauge, "force": ForceGauge,
+          "pressure": PressureSensors}
 _TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
 
 

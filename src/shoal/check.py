@@ -79,6 +79,8 @@ def probe_record_values(case, spec):
         return 6 * nodes, nodes
     if spec.type == "points":
         return 1 + 5 * len(spec.points), len(spec.points)
+    if spec.type == "pressure":
+        return 1 + len(spec.points), len(spec.points)
     if spec.type == "gauge":
         return 2, max(2, math.ceil((spec.z1 - spec.z0) / (0.5 * case.dp)) + 1)
     if spec.type == "maxz":
@@ -123,11 +125,11 @@ def check_probes(case, n_particles):
 
     for i, pr in enumerate(case.probes):
         where = f"probes[{i}] ({pr.type} {pr.name!r})"
-        if pr.type in ("points", "tracker"):
-            pts = pr.points if pr.type == "points" else pr.start
+        if pr.type in ("points", "tracker", "pressure"):
+            pts = pr.start if pr.type == "tracker" else pr.points
             for k, pt in enumerate(pts):
                 if outside(pt):
-                    key = "points" if pr.type == "points" else "start"
+                    key = "start" if pr.type == "tracker" else "points"
                     raise InputError(f"{where}: {key}[{k}] = {list(pt)} lies outside the domain {dom}; a probe must "
                                      "lie inside it")
             bad = [j for j in getattr(pr, "ids", []) if j >= n_particles]

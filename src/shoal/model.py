@@ -283,19 +283,10 @@ class Model:
         """
         from .probes.interpolate import n_probe_columns
 
-        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        cols = [0, 1, 2] if self.dim == 3 else [0, 2]
-        internal = np.zeros((len(pts), 3))
-        internal[:, : self.dim] = pts[:, cols]
-        if self.dim == 2:
-            internal[:, 2] = pts[:, 2]  # gather_at reads (x, y, z): z is the second stored coordinate
-            internal[:, 1] = 0.0
+        internal = self._internal_points(points)
+        pts = internal
         b = self.backend
-        key = len(pts)
-        if getattr(self, "_probe_buf", (None,))[0] != key:
-            self._probe_buf = (key, b.zeros((key, n_probe_columns(self.dim)), self.dtype),
-                               b.asarray(np.asarray(self.grid.lo, np.float64)))
-        _, out, glo = self._probe_buf
+        out, glo = self._point_buffers("_probe_buf", len(pts), n_probe_columns(self.dim))
         inv_cs = 1.0 / self.grid.cell_size
         b.timed(b.probe, len(pts), (b.asarray(internal), self.pos, self.vel, self.rho, self.kind,
                                     self.grid.cell_start, self.grid.gdims_arr, glo, inv_cs, self.P, out))
@@ -312,6 +303,45 @@ class Model:
             return {"kernel_sum": s, "pressure": o[:, 1] * inv, "density": o[:, 2] * inv,
                     "velocity": vel * inv[:, None]}
         return {"kernel_sum": s, "pressure": o[:, 1], "density": o[:, 2], "velocity": vel}
+
+    def sensor_moments(self, points):
+        """The fluid's weighted moments around fixed points (`shoal.probes.interpolate.make_sensor_moments`),
+        from which `shoal.probes.pressure_sensors.fit_pressure` extrapolates the pressure to each point.
+
+        Parameters
+        ----------
+        points : (M, 3) array
+            World coordinates [m].
+
+        Returns
+        -------
+        (M, 14) float64 array in 3D, (M, 9) in 2D.
+        """
+        from .probes.interpolate import n_moment_columns
+
+        internal = self._internal_points(points)
+        b = self.backend
+        key = len(internal)
+        out, glo = self._point_buffers("_moment_buf", key, n_moment_columns(self.dim))
+        b.timed(b.sensor_moments, key, (b.asarray(internal), self.pos, self.rho, self.kind, self.grid.cell_start,
+                                        self.grid.gdims_arr, glo, 1.0 / self.grid.cell_size, self.P, out))
+        return b.to_host(out, 0, key).astype(np.float64)
+
+    def _point_buffers(self, attr, n, columns):
+        """(out, grid corner) device buffers of a point kernel for `n` points, kept in `attr` while n holds."""
+        b = self.backend
+        if getattr(self, attr, (None,))[0] != n:
+            setattr(self, attr, (n, b.zeros((n, columns), self.dtype), b.asarray(np.asarray(self.grid.lo, np.float64))))
+        _, out, glo = getattr(self, attr)
+        return out, glo
+
+    def _internal_points(self, points):
+        """(M, 3) float64 points in the gather's coordinates: (x, y, z) in 3D, (x, 0, z) in 2D."""
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        internal = pts.copy()
+        if self.dim == 2:
+            internal[:, 1] = 0.0
+        return internal
 
     def free_surface(self):
         """(n,) int8 flags of the active particles: 1 on the free surface (Marrone et

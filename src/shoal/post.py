@@ -43,7 +43,8 @@ from .errors import InputError
 __all__ = ["post", "plot_gauges", "plot_mean_flow", "plot_tracks", "plot_plane", "mean_flow", "parse_plane",
            "surface_levels", "run_info"]
 
-GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv", "flow_*.csv", "force_*.csv")
+GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv", "flow_*.csv", "force_*.csv",
+                  "pressure_*.csv")
 _UNITS = {"level": "free-surface elevation [m]", "zmax": "highest fluid particle z [m]",
           "velocity": "velocity [m/s]", "p": "pressure [Pa]", "rho": "density [kg/m$^3$]",
           "position": "position of the highest particle [m]"}
@@ -834,7 +835,7 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
     chosen = {"gauges": gauges, "mean_flow": mean_flow, "tracks": tracks, "plane": plane is not None}
     if isosurface and not have["plane"]:
         raise InputError(f"{run_dir} holds no snapshots (.pvd + .vtu) for --isosurface")
-    what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv, flow_*.csv or force_*.csv files",
+    what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv, flow_*.csv, force_*.csv or pressure_*.csv files",
             "mean_flow": "testpoints_*.nc test-point grids", "tracks": "track_*.csv files",
             "plane": "snapshots (.pvd + .vtu)"}
     if any(chosen.values()) or isosurface:  # selectors (--isosurface alone: the meshes only)

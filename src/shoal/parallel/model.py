@@ -721,6 +721,23 @@ class DistributedModel(Model):
                     "velocity": vel * inv[:, None]}
         return {"kernel_sum": s, "pressure": out[:, 1], "density": out[:, 2], "velocity": vel}
 
+    def sensor_moments(self, points):
+        """The fluid's moments around fixed points (`Model.sensor_moments`), the same on every rank
+        (collective): each point's sums come from the rank whose slab holds it, with a fresh halo."""
+        from mpi4py import MPI
+
+        self._refresh_halo()
+        self._halo_fresh = False
+        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        buf = super().sensor_moments(pts)
+        mine = (pts[:, 0] >= self.cuts[self.mpi_rank]) & (pts[:, 0] < self.cuts[self.mpi_rank + 1])
+        buf[~mine] = 0.0
+        out = np.empty_like(buf)
+        t0 = _time.perf_counter()
+        self.comm.Allreduce(buf, out, op=MPI.SUM)
+        self.comm_seconds += _time.perf_counter() - t0
+        return out
+
     # ----------------------------------------------------------- checkpoint
     def checkpoint_arrays(self):
         """The per-particle arrays a checkpoint of this rank saves (rows ``0..n``: owned

@@ -92,9 +92,10 @@ def build_physics(jit, spec, target="cpu"):
     particle_wall_velocity = make_wall_velocity(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_pressure = make_wall_pressure(j, spec, (w, grad_factor), pressure, make_gather, unpack)
     particle_wall_force = make_wall_force(j, spec, (w, grad_factor), viscous, make_gather, unpack)
-    from ..probes.interpolate import make_probe
+    from ..probes.interpolate import make_probe, make_sensor_moments
 
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
+    sensor_moments = make_sensor_moments(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     from ..probes.free_surface import make_free_surface
 
     wet_walls, free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
@@ -102,6 +103,6 @@ def build_physics(jit, spec, target="cpu"):
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
                            particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
                            particle_wall_pressure=particle_wall_pressure, particle_wall_force=particle_wall_force,
-                           probe=probe, free_surface=free_surface, wet_walls=wet_walls,
+                           probe=probe, sensor_moments=sensor_moments, free_surface=free_surface, wet_walls=wet_walls,
                            named_jit=j,
                            unpack=unpack)

@@ -24,6 +24,9 @@ flushed as it goes, so a crash loses nothing already measured):
 * `FlowGauge`: the volume of water that has passed a cross-section and the
   flow rate through it (DualSPHysics's FlowTool), ``flow_<name>.csv``
   (`shoal.probes.flow`);
+* `PressureSensors`: the pressure on a wall's surface, as a flush-mounted
+  transducer reads it (`shoal.probes.pressure_sensors`),
+  ``pressure_<name>.csv``;
 * `ForceGauge`: the hydrodynamic force of the fluid on a solid
   (DualSPHysics's ComputeForces), ``force_<name>.csv``
   (`shoal.physics.forces`).
@@ -198,8 +201,42 @@ class ForceGauge(Spec):
     interval: PositiveReal
 
 
+class PressureSensors(Spec):
+    """Pressure sensors on a wall: the pressure [Pa] of the fluid at `points` [m] on a wall's surface,
+    every `interval` s, written to ``pressure_<name>.csv`` (time, p_0, p_1, ...), as a flush-mounted
+    laboratory transducer reads it (`shoal.probes.pressure_sensors`): extrapolated to the point from the
+    fluid alone by a linear least-squares fit (`method = "linear"`, the default), or the Shepard average
+    corrected for the hydrostatic pressure (`"hydrostatic"`), or the plain Shepard average
+    (`"shepard"`). A sensor where the kernel sum of the fluid is below `kernel_sum_min` (1/2 on a wall
+    under deep water, about 0.2 at the contact line of a front) is dry and reads 0.
+
+    `diameter` [m] > 0 averages each sensor over a disc of that diameter on the wall (a segment in
+    2D), perpendicular to `normal` (any length; the direction out of the wall into the fluid), which
+    it then needs. The wall surface of a built-in solid lies half a particle spacing outside its
+    outermost boundary particles (the lattice puts fluid and wall nodes at (i + 1/2) dp)."""
+
+    type: Literal["pressure"] = "pressure"
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
+    points: Annotated[list[Vec3], Field(min_length=1)]
+    interval: PositiveReal
+    normal: Vec3 | None = None
+    diameter: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
+    method: Literal["linear", "hydrostatic", "shepard"] = "linear"
+    kernel_sum_min: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False, strict=True)] = 0.1
+
+    @model_validator(mode="after")
+    def _area(self):
+        if self.normal is not None and not any(self.normal):
+            raise ValueError("normal = [0, 0, 0] has no direction; give the direction out of the wall into "
+                             "the fluid, e.g. [0, 0, 1] for a bed")
+        if self.diameter > 0 and self.normal is None:
+            raise ValueError(f"diameter = {self.diameter:g} m needs the wall's normal (the direction out of "
+                             "the wall into the fluid, e.g. normal = [-1, 0, 0]) to lay the sensor's area on it")
+        return self
+
+
 AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge, FlowGauge,
-                           ForceGauge], Field(discriminator="type")]
+                           ForceGauge, PressureSensors], Field(discriminator="type")]
 
 
 def surface_level(z, s, threshold=0.5):
@@ -230,6 +267,10 @@ def make_recorder(spec, out_dir, dp, model):
         return FlowRecorder(spec, out_dir, model)
     if isinstance(spec, ForceGauge):
         return ForceRecorder(spec, out_dir, model)
+    if isinstance(spec, PressureSensors):
+        from .pressure_sensors import PressureSensorRecorder
+
+        return PressureSensorRecorder(spec, out_dir, model)
     return ProbeRecorder(spec, out_dir, dp)
 
 

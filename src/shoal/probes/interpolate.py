@@ -66,3 +66,80 @@ def make_probe(jit, spec, kernels, pressure, make_point_gather, unpack):
             out[k, 4] = sw
 
     return probe
+
+
+def n_moment_columns(dim):
+    """Columns of `make_sensor_moments`'s output: 14 in 3D, 9 in 2D."""
+    return 14 if dim == 3 else 9
+
+
+def make_sensor_moments(jit, spec, kernels, pressure, make_point_gather, unpack):
+    """Return ``moments(k, points, pos, rho, kind, cell_start, grid_dims, glo, inv_cs, Parr, out)``: the
+    weighted moments of the fluid around point k from which `shoal.probes.pressure_sensors` fits the
+    pressure by linear least squares.
+
+    With weights w_j = V_j W(x_k - x_j) over the fluid particles within 2h (V_j = m_j / rho_j) and the
+    offsets e_j = (x_j - x_k) / h, out[k] holds, in 3D,
+
+        S, sum w e (3), sum w e e^T (xx, xy, xz, yy, yz, zz), sum w p, sum w p e (3)
+
+    and in 2D S, sum w e (x, z), sum w e e^T (xx, xz, zz), sum w p, sum w p e (x, z). The sums are
+    additive over disjoint sets of particles (MPI ranks add theirs); the offsets are scaled by 1/h so
+    that the moment matrix is of order one in float32.
+    """
+    F = spec.float_type
+    dim = spec.dim
+    zero = F(0.0)
+    w, _ = kernels
+
+    @jit
+    def moment_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
+        s, ex, ey, ez, exx, exy, exz, eyy, eyz, ezz, sp, px, py, pz = acc
+        rho, kind = data
+        if kind[j] != FLUID:
+            return acc
+        rj = rho[j]
+        wj = P.mass_f / rj * w(r2 ** F(0.5) * P.inv_h, P)
+        pw = pressure(rj, P) * wj
+        # (dx, dy, dz) = point - x_j: the offset of j from the point is its negative
+        x, y, z = -dx * P.inv_h, -dy * P.inv_h, -dz * P.inv_h
+        return (s + wj, ex + wj * x, ey + wj * y, ez + wj * z, exx + wj * x * x, exy + wj * x * y,
+                exz + wj * x * z, eyy + wj * y * y, eyz + wj * y * z, ezz + wj * z * z, sp + pw,
+                px + pw * x, py + pw * y, pz + pw * z)
+
+    gather_at = make_point_gather(jit, spec, moment_pair)
+
+    @jit
+    def moments(k, points, pos, rho, kind, cell_start, grid_dims, glo, inv_cs, Parr, out):
+        P = unpack(Parr)
+        gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
+        acc = (zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero)
+        s, ex, ey, ez, exx, exy, exz, eyy, eyz, ezz, sp, px, py, pz = gather_at(
+            points[k, 0], points[k, 1], points[k, 2], 0, acc, pos, cell_start, gdims, glo, inv_cs, (rho, kind), P)
+        out[k, 0] = s
+        if dim == 3:
+            out[k, 1] = ex
+            out[k, 2] = ey
+            out[k, 3] = ez
+            out[k, 4] = exx
+            out[k, 5] = exy
+            out[k, 6] = exz
+            out[k, 7] = eyy
+            out[k, 8] = eyz
+            out[k, 9] = ezz
+            out[k, 10] = sp
+            out[k, 11] = px
+            out[k, 12] = py
+            out[k, 13] = pz
+        else:
+            # 2D stores (x, z): the gather's dz is the z offset, dy is zero
+            out[k, 1] = ex
+            out[k, 2] = ez
+            out[k, 3] = exx
+            out[k, 4] = exz
+            out[k, 5] = ezz
+            out[k, 6] = sp
+            out[k, 7] = px
+            out[k, 8] = pz
+
+    return moments
