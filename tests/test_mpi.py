@@ -152,6 +152,7 @@ def _particle_probes(interval):
                     interval=interval),
             MaxZGauge(name="cut", x=0.17, y=0.08, radius=0.03, interval=interval),
             RunupGauge(name="r", x0=0.1, x1=0.5, y=0.07, band=0.02, interval=interval),
+            RunupGauge(name="wet", x0=0.0, x1=0.5, y=0.07, band=0.06, min_depth=0.02, interval=interval),
             FlowGauge(name="cut", at=0.17, interval=interval),
             ForceGauge(name="tank", solid="tank", interval=interval),
             PressureSensors(name="bed", points=[(0.07, 0.08, 0.0), (0.17, 0.08, 0.0), (0.25, 0.08, 0.0)],
@@ -251,7 +252,7 @@ def test_particle_probes_two_ranks_match_one(dam_break_runs):
     case, one, two, _ = dam_break_runs
     dp = case.dp
     errs = {}
-    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv"):
+    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv", "runup_wet.csv", "flow_cut.csv"):
         h1, t1, v1 = _csv_rows(one / name)
         h2, t2, v2 = _csv_rows(two / name)
         assert h1 == h2 and t1 == t2 and len(t1) == 7, (name, h1, h2, t1, t2)
@@ -263,6 +264,10 @@ def test_particle_probes_two_ranks_match_one(dam_break_runs):
     assert np.isnan(mz[0, 0]) and np.all(np.isfinite(mz[-3:, 0])), mz
     _, _, ru = _csv_rows(two / "runup_r.csv")
     assert np.all(np.isfinite(ru)) and ru[0, 0] > ru[-1, 0] + 2 * dp, ru  # the column falls
+    # the wet shoreline (min_depth = dp, columns over both ranks' slabs): on the bed at t = 0 (the column's
+    # foot, x = a - dp/2), then the surge's tongue carries it across the cut
+    _, _, sh = _csv_rows(two / "runup_wet.csv")
+    assert abs(sh[0, 0]) < 1e-6 and abs(sh[0, 1] - 0.13) < 1e-6 and sh[-1, 1] > 0.17, sh
     # the force on the tank (its particles on both ranks): the sum over the ranks, the single-process force
     # within 1e-4 of its size (the ghosts a rank reads at a sample are those of the step's last exchange)
     h1, t1, f1 = _csv_rows(one / "force_tank.csv")
@@ -565,7 +570,7 @@ def test_resume_on_two_ranks_is_bitwise_and_on_three_redistributed(mpiexec, tmp_
     assert np.array_equal(sc["idp"], np.arange(9204))
     assert np.max(np.abs(sc["pos"] - sa["pos"])) <= 0.01 * 0.02
     assert "written by 2 MPI ranks, re-distributed over 3 ranks" in (c / "run.log").read_text()
-    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv", "flow_cut.csv"):  # rows before the stop kept, then on
+    for name in ("track_t.csv", "maxz_cut.csv", "runup_r.csv", "runup_wet.csv", "flow_cut.csv"):  # rows before the stop kept, then on
         ha, ta, va = _csv_rows(a / name)
         hc, tc, vc = _csv_rows(c / name)
         assert ha == hc and ta == tc and len(ta) == 12 and np.array_equal(np.isnan(va), np.isnan(vc)), name

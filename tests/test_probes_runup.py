@@ -139,3 +139,81 @@ def test_make_recorder_dispatches_the_new_gauges(tmp_path):
     rec(SimpleNamespace(time=0.25, model=model))
     rec.close()
     assert (tmp_path / "runup_r.csv").read_text().splitlines() == ["time,zmax,x,y", "0.25,0.3,0.5,0"]
+
+
+def _column(x, n, dp, z0=0.0, y=0.0):
+    """n particles stacked at x from z0 + dp/2 (a water layer n dp thick over a bed at z0)."""
+    return [[x, y, z0 + (k + 0.5) * dp] for k in range(n)]
+
+
+def test_shoreline_follows_the_wet_tongue_not_a_film_or_a_splash():
+    """Hand-placed particles (2D, dp = 0.01, columns from x0 = 0): a layer 3 particles thick over
+    columns 0-4 on a bed rising 0.01 per column, 1 particle over columns 5-6 (a film), nothing over
+    7-8 and a splash 4 particles high over column 9. With min_depth = 2 dp the shoreline is column 4
+    (bed 0.04 m: zmax = its lowest particle centre - dp/2), with min_depth = dp it is column 6 (the
+    film counts), never the splash; landward = "-x" reads the same range from the other end (the
+    splash's own column, the first wet one from that side, then its run ends); a film-only range is
+    dry (NaN)."""
+    from shoal.probes import shoreline, shoreline_columns
+
+    dp = 0.01
+    pts = []
+    for c in range(5):
+        pts += _column((c + 0.5) * dp, 3, dp, z0=c * dp)
+    for c in (5, 6):
+        pts += _column((c + 0.5) * dp, 1, dp, z0=c * dp)
+    pts += _column(9.5 * dp, 4, dp, z0=0.3)
+    pos = np.array(pts)
+    kinds = np.zeros(len(pos), int)
+    kinds[-1] = 1  # a wall particle never counts
+    g = RunupGauge(name="r", x0=0.0, x1=0.1, interval=0.1, min_depth=2 * dp)
+
+    def read(spec):
+        cols = shoreline_columns(pos, kinds, 2, spec, dp, (0.0, 0.0))
+        return shoreline(*cols, 2, spec, dp, (0.0, 0.0))
+
+    z, x, y = read(g)
+    assert z == pytest.approx(0.04) and x == pytest.approx(0.045) and y == 0.0
+    z, x, _ = read(g.model_copy(update={"min_depth": dp}))
+    assert z == pytest.approx(0.06) and x == pytest.approx(0.065)
+    z, x, _ = read(g.model_copy(update={"landward": "-x"}))
+    assert z == pytest.approx(0.3) and x == pytest.approx(0.095)
+    assert all(np.isnan(read(g.model_copy(update={"x0": 0.05, "x1": 0.09}))))
+
+
+def test_shoreline_in_3d_is_the_highest_over_the_rows():
+    """Two rows of columns in y (dp = 0.01, band 0.02 around y = 0.01): the tongue reaches column 2 in
+    the first row and column 4 in the second; the gauge reads the second row's shoreline and its y."""
+    from shoal.probes import shoreline, shoreline_columns
+
+    dp = 0.01
+    pts = []
+    for c in range(3):
+        pts += _column((c + 0.5) * dp, 2, dp, z0=c * dp, y=0.005)
+    for c in range(5):
+        pts += _column((c + 0.5) * dp, 2, dp, z0=c * dp, y=0.015)
+    pos = np.array(pts)
+    g = RunupGauge(name="r", x0=0.0, x1=0.1, y=0.01, band=0.02, interval=0.1, min_depth=1.5 * dp)
+    ylim = (0.0, 0.02)
+    cols = shoreline_columns(pos, np.zeros(len(pos), int), 3, g, dp, ylim)
+    z, x, y = shoreline(*cols, 3, g, dp, ylim)
+    assert z == pytest.approx(0.04) and x == pytest.approx(0.045) and y == pytest.approx(0.015)
+
+
+def test_shoreline_on_a_beach_in_still_water(tmp_path):
+    """Real run (the 1:2 beach of `test_runup_on_a_sloping_beach_in_still_water_is_the_still_water_level`,
+    H = 0.2 m, dp = 0.02 m, 0.1 s) with min_depth = 2 dp: the shoreline is where the still water is
+    2 dp deep, the bed at H - 2 dp; the gauge reads the bed under the last column holding 2 particles,
+    which the lattice puts within one column (dp wide, gradient dp = 0.01 m high) of it, so zmax lies in
+    [H - 2 dp - gradient dp - dp/2, H - 2 dp + dp/2] (the dp/2: the bed estimated from the lowest
+    particle centre on a stair-stepped bed), at every sample."""
+    H, dp, gradient = 0.2, 0.02, 0.5
+    case = _beach_case(0.1, dp=dp, H=H, probes=[RunupGauge(name="wet", x0=0.5, x1=1.0, interval=0.02,
+                                                           min_depth=2 * dp)])
+    shoal.run_case(case, tmp_path / "run", plot=False)
+    _, data = _rows(tmp_path / "run" / "runup_wet.csv")
+    assert len(data) == 6
+    lo, hi = H - 2 * dp - gradient * dp - dp / 2, H - 2 * dp + dp / 2
+    assert np.all((data[:, 1] >= lo) & (data[:, 1] <= hi)), (data, lo, hi)
+    shore = 0.5 + (H - 2 * dp) / gradient  # where the still water is 2 dp deep
+    assert np.all(np.abs(data[:, 2] - shore) <= 2 * dp), data

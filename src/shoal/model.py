@@ -673,6 +673,28 @@ class Model:
         return flow_measure(pos, self.world_velocities(), self.owned_density(), kinds, ids, spec, self.dim,
                             self.dp, self.mass, prev, self.n_ids, period)
 
+    def shoreline(self, spec):
+        """(zmax, x, y) [m] of a `RunupGauge` `spec` with `min_depth`: the wet shoreline's highest point
+        (`shoal.probes.shoreline`; NaNs when no column is wet)."""
+        from .probes import shoreline
+
+        ylim = self._shoreline_ylim(spec)
+        cols = self._shoreline_columns(spec, ylim)
+        return shoreline(*cols, self.dim, spec, self.dp, ylim)
+
+    def _shoreline_ylim(self, spec):
+        if self.dim == 2:
+            return (0.0, 0.0)
+        if spec.band is not None:
+            return (spec.y - 0.5 * spec.band, spec.y + 0.5 * spec.band)
+        return (float(self.grid.lo[1]), float(self.grid.hi[1]))
+
+    def _shoreline_columns(self, spec, ylim):
+        from .probes import shoreline_columns
+
+        pos, kinds, _ = self.owned_particles()
+        return shoreline_columns(pos, kinds, self.dim, spec, self.dp, ylim)
+
     def highest_fluid(self, spec, tie=0.0):
         """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` `spec` over the fluid
         particles (`shoal.probes.highest_fluid`; NaNs when its region holds none)."""

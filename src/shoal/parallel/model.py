@@ -887,6 +887,25 @@ class DistributedModel(Model):
             crossed = self.allreduce(crossed, "sum")
         return np.where(np.isneginf(out), np.nan, out), crossed, q
 
+    def _shoreline_ylim(self, spec):
+        lo, hi = super()._shoreline_ylim(spec)
+        return (self.allreduce(lo, "min"), self.allreduce(hi, "max"))
+
+    def _shoreline_columns(self, spec, ylim):
+        """The shoreline columns (`shoal.probes.shoreline_columns`) of every rank's owned fluid, the same
+        on every rank (collective): counts added, lowest z and most landward x over the ranks."""
+        from mpi4py import MPI
+
+        counts, zmin, xland = super()._shoreline_columns(spec, ylim)
+        out = []
+        t0 = _time.perf_counter()
+        for a, op in ((counts, MPI.SUM), (zmin, MPI.MIN), (xland, MPI.MAX)):
+            b = np.empty_like(a)
+            self.comm.Allreduce(np.ascontiguousarray(a), b, op=op)
+            out.append(b)
+        self.comm_seconds += _time.perf_counter() - t0
+        return tuple(out)
+
     def highest_fluid(self, spec, tie=0.0):
         """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` over every rank's fluid,
         the same on every rank (collective): zmax is the MPI max of the ranks' highest

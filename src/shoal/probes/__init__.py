@@ -141,7 +141,19 @@ class RunupGauge(Spec):
     The position is that of the most `landward` particle ("+x": largest x,
     the built-in flumes' beaches; "-x": smallest) among those within dp/4 of
     the highest: still water has a whole top row at one level, and its
-    landward end is the shoreline."""
+    landward end is the shoreline.
+
+    With `min_depth` [m] the gauge follows the wet shoreline instead, as a
+    laboratory run-up wire mounted that high above the slope does: the range
+    is cut into columns dp wide in x (and dp in y, 3D); a column is wet where
+    its water layer, the fluid volume over the column's plan area (N dp in a
+    column of N particles), is at least `min_depth` thick; from the first wet
+    column on the seaward side the shoreline is the last of the unbroken run
+    of wet columns landward (a splash ahead of the tongue, or a film thinner
+    than `min_depth`, does not count). zmax is then the bed's elevation
+    there, its lowest particle centre minus dp/2, x the most landward
+    particle of that column and y the column's centre; in 3D the highest
+    shoreline over the y columns (`shoal.probes.shoreline`)."""
 
     type: Literal["runup"] = "runup"
     name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
@@ -150,6 +162,7 @@ class RunupGauge(Spec):
     y: Real = 0.0
     band: PositiveReal | None = None
     landward: Literal["+x", "-x"] = "+x"
+    min_depth: PositiveReal | None = None
     interval: PositiveReal
 
     @model_validator(mode="after")
@@ -521,6 +534,69 @@ def highest_fluid(positions, kinds, dim, spec, tie=0.0, zmax=None):
     return zmax, float(cand[k, 0]), float(cand[k, 1])
 
 
+def shoreline_columns(positions, kinds, dim, spec, dp, ylim):
+    """Per-column sums of a `RunupGauge` with `min_depth` (see its docstring): the columns of width dp
+    from x0 (and from ylim[0] in y, 3D) over the fluid particles here.
+
+    Parameters
+    ----------
+    positions, kinds, dim, spec
+        As `highest_fluid`.
+    dp : float
+        Particle spacing [m]: the columns' width.
+    ylim : (float, float)
+        [m] the y range of the columns (3D: the gauge's band, or the domain's y range).
+
+    Returns
+    -------
+    counts, zmin, xland : ndarray, shape (ny, nx)
+        Fluid particles in each column, their lowest z [m] (inf where none) and the most landward
+        particle's x times +1 ("+x") or -1 ("-x") (-inf where none): sums, minima and maxima that MPI
+        ranks combine (`shoreline` reads them).
+    """
+    nx = max(1, int(np.ceil((spec.x1 - spec.x0) / dp - 1e-9)))
+    ny = max(1, int(np.ceil((ylim[1] - ylim[0]) / dp - 1e-9))) if dim == 3 else 1
+    pos = np.asarray(positions, float).reshape(-1, 3)
+    sel = (np.asarray(kinds) == 0) & (pos[:, 0] >= spec.x0) & (pos[:, 0] <= spec.x1)
+    if dim == 3:
+        sel &= (pos[:, 1] >= ylim[0]) & (pos[:, 1] <= ylim[1])
+    p = pos[sel]
+    ix = np.clip(((p[:, 0] - spec.x0) / dp).astype(np.int64), 0, nx - 1)
+    iy = np.clip(((p[:, 1] - ylim[0]) / dp).astype(np.int64), 0, ny - 1) if dim == 3 else np.zeros(len(p), np.int64)
+    flat = iy * nx + ix
+    counts = np.bincount(flat, minlength=nx * ny).astype(np.float64)
+    zmin = np.full(nx * ny, np.inf)
+    np.minimum.at(zmin, flat, p[:, 2])
+    xland = np.full(nx * ny, -np.inf)
+    np.maximum.at(xland, flat, (1.0 if spec.landward == "+x" else -1.0) * p[:, 0])
+    return counts.reshape(ny, nx), zmin.reshape(ny, nx), xland.reshape(ny, nx)
+
+
+def shoreline(counts, zmin, xland, dim, spec, dp, ylim):
+    """(zmax, x, y) [m] of a `RunupGauge` with `min_depth` from its columns (`shoreline_columns`, summed
+    over the ranks): in each row of columns, the landward end of the unbroken run of wet columns (layer
+    N dp**dim / dp**(dim - 1) >= min_depth) that starts at the first wet column on the seaward side; the
+    highest over the rows; NaNs when no column is wet."""
+    nan = float("nan")
+    wet = counts * dp >= spec.min_depth
+    if spec.landward == "-x":
+        wet, zmin, xland = wet[:, ::-1], zmin[:, ::-1], xland[:, ::-1]
+    best = (nan, nan, nan)
+    for r in range(wet.shape[0]):
+        cols = np.flatnonzero(wet[r])
+        if not len(cols):
+            continue
+        k = cols[0]
+        while k + 1 < wet.shape[1] and wet[r, k + 1]:
+            k += 1
+        z = float(zmin[r, k]) - 0.5 * dp
+        if np.isnan(best[0]) or z > best[0]:
+            x = float(xland[r, k]) * (1.0 if spec.landward == "+x" else -1.0)
+            y = ylim[0] + (r + 0.5) * dp if dim == 3 else 0.0
+            best = (z, x, y)
+    return best
+
+
 class ForceRecorder:
     """Samples a `ForceGauge` (`Model.body_force`: a pass over the boundary particles on the active
     backend; under MPI summed over the ranks) and appends time, fx, fy, fz to its CSV."""
@@ -571,7 +647,10 @@ class MaxZRecorder:
         self.rows = []
 
     def __call__(self, sim):
-        z, x, y = sim.model.highest_fluid(self.spec, self.tie)
+        if getattr(self.spec, "min_depth", None) is not None:
+            z, x, y = sim.model.shoreline(self.spec)
+        else:
+            z, x, y = sim.model.highest_fluid(self.spec, self.tie)
         row = [sim.time, z] if isinstance(self.spec, MaxZGauge) else [sim.time, z, x, y]
         self.rows.append(row)
         self.writer.writerow([f"{v:.9g}" for v in row])
