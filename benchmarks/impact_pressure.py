@@ -3,7 +3,8 @@
 Runs the SPHERIC Test 2 set-up (`shoal.validation.spheric_test2`) to `--end` s with both the validation's
 pressure probes (Shepard interpolation half a spacing off the box's face, `type = "points"`) and wall
 pressure sensors on the face itself at P1-P4 (`type = "pressure"`, the fluid's pressure extrapolated to
-the face), every 1 ms as the experiment. Prints, per sensor and way of measuring, against the MARIN record
+the face by the linear fit and by the hydrostatic Shepard average), every 1 ms as the experiment. A dry
+probe (NaN) counts as 0. Prints, per sensor and way of measuring, against the MARIN record
 (both smoothed over 10 ms as the validation does, and unsmoothed):
 
 * the first peak's time and pressure and their errors (issue 28 asks for 0.02 s and 30 %);
@@ -64,21 +65,23 @@ def main(argv=None):
     opts = SPHOptions(**{**WALLS, "wall_pressure": a.wall})
     case = spheric_test2_case(dp=a.dp, end_time=a.end, options=opts)
     face = [[BOX_HI[0], P_Y, z] for z in P_FACE.values()]
-    case = case.model_copy(update={"probes": [*case.probes, PressureSensors(name="face", points=face,
-                                                                              normal=[1.0, 0.0, 0.0],
-                                                                              interval=0.001)]})
+    sensors = [PressureSensors(name=f"face_{m}", points=face, normal=[1.0, 0.0, 0.0], interval=0.001, method=m)
+               for m in ("linear", "hydrostatic")]
+    case = case.model_copy(update={"probes": [*case.probes, *sensors]})
     ref = load_reference()
     with tempfile.TemporaryDirectory() as tmp:
         shoal.run_case(case, Path(tmp), progress=False, plot=False)
         probes = np.loadtxt(Path(tmp) / "probe_pressure.csv", delimiter=",", skiprows=1)
-        sensors = np.loadtxt(Path(tmp) / "pressure_face.csv", delimiter=",", skiprows=1)
+        lin = np.loadtxt(Path(tmp) / "pressure_face_linear.csv", delimiter=",", skiprows=1)
+        hyd = np.loadtxt(Path(tmp) / "pressure_face_hydrostatic.csv", delimiter=",", skiprows=1)
     t = probes[:, 0]
     results = {"dp": a.dp, "wall": a.wall, "particles": case.n_particles, "end": a.end, "sensors": {}}
     print(f"SPHERIC Test 2, dp = {a.dp} m ({case.n_particles:,} particles), wall_pressure = {a.wall}, to {a.end} s")
     print(f"{'':4} {'measured by':14} {'peak t':>7} {'dt':>7} {'peak p':>8} {'rel':>7} | {'raw dt':>7} {'raw rel':>8}"
           f" | {'min/rho g H0':>12} {'ringing':>8}")
     for k, name in enumerate(P_FACE):
-        for how, series in (("probe dp/2 off", probes[:, 1 + 5 * k + 3]), ("wall sensor", sensors[:, 1 + k])):
+        for how, series in (("probe dp/2 off", np.nan_to_num(probes[:, 1 + 5 * k + 3])), ("sensor linear", lin[:, 1 + k]),
+                            ("sensor hydro", hyd[:, 1 + k])):
             m = metrics(t, series, ref["t"], ref["pressure"][name], (0.0, min(1.0, a.end)))
             results["sensors"].setdefault(name, {})[how] = m
             s, r = m["smoothed"], m["raw"]

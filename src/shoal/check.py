@@ -245,4 +245,7 @@ def check_case(case):
                  + f"), {', '.join(when)}; the newest {cfg.keep} kept: up to {cfg.keep * ck_end / 2**20:.3g} MiB")
     if case.motions:
         lines.append("  motions: " + ", ".join(f"{m.name} ({m.type})" for m in case.motions))
+    from .advice import wave_scheme_warnings
+
+    lines += [f"  warning: {w}" for w in wave_scheme_warnings(case)]
     return lines

@@ -224,6 +224,12 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
                          "or pass --overwrite (or --resume to continue it)")
     check_memory(case)
     model = build_model(case, backend)  # bad input fails here, before anything is written
+    if not resume:
+        from .advice import wave_scheme_warnings
+
+        for w in wave_scheme_warnings(case):
+            _warn(w)
+            warnings.append(w)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
         lock = lock_run_dir(out_dir)

@@ -298,6 +298,12 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
                                      "or pass --overwrite")
                 check_memory(case)
                 out_dir.mkdir(parents=True, exist_ok=True)
+                if not resume:
+                    from ..advice import wave_scheme_warnings
+                    from ..runner import _warn
+
+                    for w in wave_scheme_warnings(case):
+                        _warn(w)
             except InputError as err:
                 msg = str(err)
             except OSError as err:
