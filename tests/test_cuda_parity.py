@@ -447,8 +447,9 @@ def test_pressure_sensor_moments_match_cpu(precision):
     tol = 1e-9 if precision == "float64" else 1e-4
     assert np.max(np.abs(moms[0])) > 0
     assert np.max(np.abs(moms[0] - moms[1])) <= tol * np.max(np.abs(moms[0]))
-    p = [fit_pressure(mo, 2, cpu.h, cpu.rho0, cpu.gravity) for mo in moms]
-    assert np.max(np.abs(p[0] - p[1])) <= 10 * tol * np.max(np.abs(p[0]))
+    for method in ("hydrostatic", "linear"):
+        p = [fit_pressure(mo, 2, cpu.h, cpu.rho0, cpu.gravity, method) for mo in moms]
+        assert np.max(np.abs(p[0] - p[1])) <= 10 * tol * np.max(np.abs(p[0])), method
 
 
 @needs_cuda

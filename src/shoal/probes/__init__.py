@@ -218,9 +218,10 @@ class PressureSensors(Spec):
     """Pressure sensors on a wall: the pressure [Pa] of the fluid at `points` [m] on a wall's surface,
     every `interval` s, written to ``pressure_<name>.csv`` (time, p_0, p_1, ...), as a flush-mounted
     laboratory transducer reads it (`shoal.probes.pressure_sensors`): extrapolated to the point from the
-    fluid alone by a linear least-squares fit (`method = "linear"`, the default), or the Shepard average
-    corrected for the hydrostatic pressure (`"hydrostatic"`), or the plain Shepard average
-    (`"shepard"`). A sensor where the kernel sum of the fluid is below `kernel_sum_min` (1/2 on a wall
+    fluid alone, by the Shepard average corrected for the hydrostatic pressure (`method =
+    "hydrostatic"`, the default: exact at rest, robust in impacts), by a linear least-squares fit
+    (`"linear"`: exact for any linear field, but it amplifies the particles' noise) or the plain Shepard
+    average (`"shepard"`). A sensor where the kernel sum of the fluid is below `kernel_sum_min` (1/2 on a wall
     under deep water, about 0.2 at the contact line of a front) is dry and reads 0.
 
     `diameter` [m] > 0 averages each sensor over a disc of that diameter on the wall (a segment in
@@ -234,7 +235,7 @@ class PressureSensors(Spec):
     interval: PositiveReal
     normal: Vec3 | None = None
     diameter: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
-    method: Literal["linear", "hydrostatic", "shepard"] = "linear"
+    method: Literal["hydrostatic", "linear", "shepard"] = "hydrostatic"
     kernel_sum_min: Annotated[float, Field(ge=0, le=1, allow_inf_nan=False, strict=True)] = 0.1
 
     @model_validator(mode="after")

@@ -8,23 +8,30 @@ gradient times that distance (rho g h/2 under still water, and more during an im
 normal to the wall is large). DualSPHysics users place their probes off the wall for that reason.
 
 Here the pressure is extrapolated to the wall point from the fluid alone (never from the boundary
-particles, whose pressure depends on the boundary treatment) by a first-order (linear) moving least
-squares fit (Dilts 1999; the kernel correction of Bonet & Lok 1999, as mDBC uses at its ghost nodes,
-English et al. 2022): with the weights w_j = V_j W(x_s - x_j) of the fluid particles j within 2h of the
-sensor point x_s and their offsets e_j = (x_j - x_s) / h, the fit p(x) = a + h^-1 b . (x - x_s) minimises
-sum_j w_j (p_j - a - b . e_j)^2, so
-
-    [ S        sum w e^T   ] [a]   [ sum w p   ]
-    [ sum w e  sum w e e^T ] [b] = [ sum w p e ],   S = sum_j w_j,
-
-and the sensor reads p_s = a. The fit is exact for a pressure field linear in space (a hydrostatic
-column, a uniform deceleration), whatever part of the support holds fluid. Where the moment matrix is
-ill-conditioned (fluid on a line or a thin sheet: its Hadamard ratio det M / prod M_kk below
-`HADAMARD_MIN`), the sensor falls back to the Shepard average corrected for the hydrostatic pressure
-between the particles and the point, the extrapolation of Adami, Hu & Adams (2012, Eq. 27) at a fixed
-wall:
+particles, whose pressure depends on the boundary treatment). With the weights w_j = V_j W(x_s - x_j) of
+the fluid particles j within 2h of the sensor point x_s and S = sum_j w_j, the default
+(``method = "hydrostatic"``) is the Shepard average corrected for the hydrostatic pressure between each
+particle and the point, the extrapolation of Adami, Hu & Adams (2012, Eq. 27) at a fixed wall:
 
     p_s = (sum_j w_j p_j + rho0 g . sum_j w_j (x_s - x_j)) / S.
+
+It is exact under water at rest whatever part of the support holds fluid, and it is bounded by the
+particles' own pressures (plus the hydrostatic term), so it does not amplify their noise.
+``method = "linear"`` fits p(x) = a + h^-1 b . (x - x_s) by weighted least squares (first-order moving
+least squares, Dilts 1999; the kernel correction of Bonet & Lok 1999, as mDBC uses at its ghost nodes,
+English et al. 2022), with the offsets e_j = (x_j - x_s) / h:
+
+    [ S        sum w e^T   ] [a]   [ sum w p   ]
+    [ sum w e  sum w e e^T ] [b] = [ sum w p e ],
+
+and reads p_s = a. It is exact for any pressure field linear in space (a uniform deceleration against
+the wall too), but it extrapolates from the fluid's centroid, about h/2 off the wall, to the wall, and
+multiplies the particles' pressure noise on the way: on SPHERIC Test 2's box at dp = 0.05 m
+(`benchmarks/impact_pressure.py`) it read the impact 2-4 times the hydrostatic average's excess over the
+measurement and swung to -4 to -19 rho0 g H0 where the hydrostatic average stayed above -1.8. Where its
+moment matrix is ill-conditioned (fluid on a line or a thin sheet: the Hadamard ratio det M / prod M_kk
+below `HADAMARD_MIN`) it falls back to the hydrostatic average. ``method = "shepard"`` is the plain
+Shepard average, which reads low by the gradient times the centroid's offset.
 
 A sensor whose kernel sum S is below `KERNEL_SUM_MIN` reads 0 (gauge pressure: dry). On a wall under
 deep water S is 1/2 (half the support holds fluid); at the contact line of a water front it is about
@@ -55,7 +62,7 @@ HADAMARD_MIN = 1e-3
 """Below this Hadamard ratio of the moment matrix the linear fit falls back to the hydrostatic
 Shepard average (the MLS density filter's threshold, `shoal.physics.filters`)."""
 
-METHODS = ("linear", "hydrostatic", "shepard")
+METHODS = ("hydrostatic", "linear", "shepard")
 
 KERNEL_SUM_MIN = 0.1
 """Default kernel sum S = sum_j V_j W below which a sensor is dry and reads 0."""
@@ -69,7 +76,7 @@ def internal_gravity(gravity, dim):
     return g if dim == 3 else g[[0, 2]]
 
 
-def fit_pressure(moments, dim, h, rho0, gravity, method="linear", kernel_sum_min=KERNEL_SUM_MIN):
+def fit_pressure(moments, dim, h, rho0, gravity, method="hydrostatic", kernel_sum_min=KERNEL_SUM_MIN):
     """The pressure [Pa] at each point from the fluid's moments around it (`Model.sensor_moments`).
 
     Parameters
@@ -83,9 +90,9 @@ def fit_pressure(moments, dim, h, rho0, gravity, method="linear", kernel_sum_min
         Reference density [kg/m^3] (the hydrostatic correction of the fallback).
     gravity : array of 2 or 3 floats
         Gravity [m/s^2] (world components; 2D: (gx, gz) or (gx, gy, gz)).
-    method : {"linear", "hydrostatic", "shepard"}
-        The linear least-squares fit (with the hydrostatic fallback where it is ill-conditioned), the
-        hydrostatic-corrected Shepard average alone, or the plain Shepard average.
+    method : {"hydrostatic", "linear", "shepard"}
+        The Shepard average corrected for the hydrostatic pressure, the linear least-squares fit (with
+        the hydrostatic average where it is ill-conditioned), or the plain Shepard average.
     kernel_sum_min : float
         Points whose kernel sum S is below this are dry and read 0.
 
