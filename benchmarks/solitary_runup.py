@@ -82,8 +82,11 @@ def main(argv=None):
     d, dp = a.d, a.d / a.ddp
     opts = SPHOptions(**({**WAVE_OPTIONS[2], "wall_pressure": a.wall} if a.scheme == "wave" else
                          {"wall_pressure": a.wall}))
-    c = math.sqrt(9.81 * d * (1 + a.H))
-    end = (20 * d + d * a.cot) / c + 2.5 * math.sqrt(d / 9.81) * a.cot ** 0.5 + 1.0
+    # the crest leaves the paddle at t0 = 3.8 / (k c) (`SolitaryPiston`), reaches the still-water shoreline
+    # (x = 20 d + d cot) a travel time later, and climbs for a time of order cot^(1/2) (d/g)^(1/2) more
+    paddle = SolitaryPiston(name="paddle", height=a.H * d, depth=d)
+    t0 = 3.8 / (paddle.k * paddle.celerity)
+    end = t0 + (20 * d + d * a.cot) / paddle.celerity + 3.0 * math.sqrt(d / 9.81) * a.cot ** 0.5 + 1.0
     case, R = flume(d, a.H, a.cot, dp, opts, end)
     print(f"solitary wave H/d = {a.H:g} on 1:{a.cot:g} (breaks: {breaks(a.H, a.cot)}), d = {d} m, d/dp = {a.ddp:g}, "
           f"{case.n_particles:,} particles, to t = {end:.2f} s; scheme {a.scheme}, walls {a.wall}", flush=True)
