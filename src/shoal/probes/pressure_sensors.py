@@ -27,8 +27,9 @@ English et al. 2022), with the offsets e_j = (x_j - x_s) / h:
 and reads p_s = a. It is exact for any pressure field linear in space (a uniform deceleration against
 the wall too), but it extrapolates from the fluid's centroid, about h/2 off the wall, to the wall, and
 multiplies the particles' pressure noise on the way: on SPHERIC Test 2's box at dp = 0.05 m
-(`benchmarks/impact_pressure.py`) it read the impact 2-4 times the hydrostatic average's excess over the
-measurement and swung to -4 to -19 rho0 g H0 where the hydrostatic average stayed above -1.8. Where its
+(`benchmarks/impact_pressure.py`) it read P1's impact peak 188 % above the measurement where the
+hydrostatic average read 52 %, and swung to -4 to -19 rho0 g H0 at P2-P4 where the hydrostatic average
+stayed above -1.8. Where its
 moment matrix is ill-conditioned (fluid on a line or a thin sheet: the Hadamard ratio det M / prod M_kk
 below `HADAMARD_MIN`) it falls back to the hydrostatic average. ``method = "shepard"`` is the plain
 Shepard average, which reads low by the gradient times the centroid's offset.
@@ -43,7 +44,7 @@ fit over a disc of that diameter on the wall (3D; a segment of length D along th
 on a square lattice of spacing at most dp/4, each sample weighing the same, as a transducer's membrane
 integrates over its area; a sample that is dry reads 0.
 
-References: T. Belytschko et al. / G. A. Dilts, "Moving-least-squares-particle hydrodynamics",
+References: G. A. Dilts, "Moving-least-squares-particle hydrodynamics -- I. Consistency and stability",
 Int. J. Numer. Meth. Eng. 44 (1999) 1115-1155; J. Bonet, T.-S. L. Lok, Comput. Methods Appl. Mech.
 Engrg. 180 (1999) 97-115; A. English et al., "Modified dynamic boundary conditions (mDBC) for
 general-purpose smoothed particle hydrodynamics (SPH)", Comp. Part. Mech. 9 (2022) 1-15; S. Adami,
