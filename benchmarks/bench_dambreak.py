@@ -81,7 +81,7 @@ def main(argv=None):
         "case": case.name, "backend": args.backend, "dp": args.dp, "precision": args.precision, "integrator": args.integrator,
         "cells_per_support": args.cells_per_support, "threads": numba.get_num_threads(),
         "particles": n, "fluid_particles": case.n_fluid, "steps": args.steps,
-        "force_evaluations": evals, "wall_seconds": round(wall, 4),
+        "force_evaluations": evals, "wall_seconds": wall,
         "particle_steps_per_second": n * args.steps / wall,
         "force_evaluations_per_second": n * evals / wall,
         "seconds_per_step": wall / args.steps,
