@@ -19,8 +19,8 @@ from .backends import get_backend
 from .errors import InputError, InstabilityError
 from .options import SPHOptions
 from .physics.eos import GAMMA
-from .physics.spec import (FIXED, FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec, make_params,
-                           params_array)
+from .physics.spec import (ADAMI, FIXED, FLUID, MDBC, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec,
+                           make_params, params_array)
 
 KIND_NAMES = {FLUID: "fluid", FIXED: "fixed boundary", MOVING: "moving boundary",
               REPULSIVE: "repulsive boundary", REPULSIVE_MOVING: "moving repulsive boundary"}
@@ -65,6 +65,10 @@ class Model:
         Prescribed motions (:mod:`shoal.motions`) of the moving boundaries.
     motion_of : (N,) int array, optional
         Index into `motions` of each moving particle (-1 for the others).
+    wall_normals : (N, 3) array, optional
+        Ghost vector of each dynamic boundary particle [m] (world x, y, z): from the particle to its
+        mirror image across the wall surface (`shoal.geometry.normals`; zero rows elsewhere).
+        Needed by ``wall_pressure = "mdbc"``, ignored otherwise.
     planes : sequence of (point, normal)
         Wall planes without particles (`shoal.physics.planes`): a point on
         each [m] and its normal pointing into the fluid (world x, y, z).
@@ -116,8 +120,8 @@ class Model:
 
     def __init__(self, positions, kinds, *, dp, dim, domain, options=None, rho0=1000.0,
                  gravity=(0.0, 0.0, -9.81), fluid_height=None, u_max=None, surface_z=None,
-                 velocities=None, motions=None, motion_of=None, periodic=(), planes=(), symmetry_y=None,
-                 backend="cpu", repulsive=None):
+                 velocities=None, motions=None, motion_of=None, wall_normals=None, periodic=(), planes=(),
+                 symmetry_y=None, backend="cpu", repulsive=None):
         options = options or SPHOptions()
         positions, kinds = self.checked_particles(positions, kinds, dp, dim, require_fluid=self.require_fluid)
         self.dim = dim
@@ -236,7 +240,8 @@ class Model:
         self.n_escaped = 0
         self.on_escape = None  # on_escape(model, start, stop): rows start..stop just left the domain
         self._init_motions(positions[:, cols], kinds, motions, motion_of)
-        if self.spec.wall_pressure and self.motion_of is None:
+        self._init_wall_normals(kinds, wall_normals)
+        if self.spec.wall_pressure == ADAMI and self.motion_of is None:
             # the Adami wall-pressure kernel reads a motion table; without moving walls, one unused row
             # (not a per-particle array: a checkpoint saves only arrays of n_total rows, each once)
             self._macc = b.asarray(np.zeros((1, dim), F))
@@ -264,6 +269,31 @@ class Model:
         self._macc_host = np.zeros((len(self.motions), self.dim), F)
         self._macc = b.asarray(self._macc_host.copy())
         self.move_bodies(0.0)
+
+    def _init_wall_normals(self, kinds, wall_normals):
+        """The mDBC ghost-vector table `ghost_of` ((n_ids - ghost_id0, dim), working precision),
+        indexed by particle id less `ghost_id0`, the first boundary particle's id (the generator puts
+        the fluid first, so the table holds the walls only)."""
+        self.ghost_of, self.ghost_id0, self.ghost_reach = None, 0, 0.0
+        if self.spec.wall_pressure != MDBC:
+            return
+        dynamic = (kinds == FIXED) | (kinds == MOVING)
+        if wall_normals is None:
+            if dynamic.any():
+                raise InputError('wall_pressure = "mdbc" needs the walls\' ghost vectors (wall_normals); build '
+                                 'the model from a Case, whose generator computes them from the geometry')
+            wall_normals = np.zeros((len(kinds), 3))
+        g = np.asarray(wall_normals, dtype=np.float64)
+        if g.shape != (len(kinds), 3) or not np.all(np.isfinite(g)):
+            raise InputError(f"wall_normals must be a finite (N, 3) array, one row per particle (N = {len(kinds)})")
+        cols = [0, 1, 2] if self.dim == 3 else [0, 2]
+        ids = np.flatnonzero(dynamic)
+        id0 = int(ids[0]) if len(ids) else 0
+        table = np.zeros((max(len(kinds) - id0, 1), self.dim), self.dtype)
+        table[:len(kinds) - id0] = np.where(dynamic[id0:, None], g[id0:][:, cols], 0.0)
+        self.ghost_id0 = id0
+        self.ghost_reach = float(np.sqrt((g[dynamic] ** 2).sum(axis=1)).max()) if len(ids) else 0.0
+        self.ghost_of = self.backend.asarray(table)
 
     def sample(self, points, shepard=True):
         """SPH interpolation at fixed points (`shoal.probes.interpolate`).
@@ -377,12 +407,12 @@ class Model:
             d, v = m.kinematics(t)
             self._disp_host[k] = np.asarray(d, float)[cols]
             self._mvel_host[k] = np.asarray(v, float)[cols]
-            if self.spec.wall_pressure:
+            if self.spec.wall_pressure == ADAMI:
                 self._macc_host[k] = np.asarray(m.acceleration(t), float)[cols]
         b = self.backend
         self._disp = b.asarray(self._disp_host.copy()) if b.name != "cpu" else self._disp_host
         self._mvel = b.asarray(self._mvel_host.copy()) if b.name != "cpu" else self._mvel_host
-        if self.spec.wall_pressure:
+        if self.spec.wall_pressure == ADAMI:
             self._macc = b.asarray(self._macc_host.copy()) if b.name != "cpu" else self._macc_host
         b.timed(b.move_bodies, self.n, (self.pos, self.vel, self.kind, self.idp, self.pos_init, self.motion_of,
                                         self._disp, self._mvel))
@@ -403,6 +433,8 @@ class Model:
                   self.pr2, self.xsph, self.tau, self.vwall, *self.scratch.values(), *self.extra_arrays]
         if self.motion_of is not None:
             arrays += [self.pos_init, self.motion_of]
+        if self.ghost_of is not None:
+            arrays.append(self.ghost_of)
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
 
     def new_array(self, like, owner=None):
@@ -461,15 +493,19 @@ class Model:
     def compute_rates(self):
         """Evaluate d rho/dt, dv/dt (and XSPH) of the active particles."""
         b, n, P = self.backend, self.n, self.P
-        if self.spec.wall_pressure:
+        if self.spec.wall_pressure == ADAMI:
             motion_of = self.motion_of if self.motion_of is not None else self._no_motion_of
             b.timed(b.wall_pressure, n, (self.pos, self.rho, self.kind, self.idp, motion_of, self._macc,
                                          self.grid.cell, self.grid.cell_start, self.grid.gdims_arr, P))
+        elif self.spec.wall_pressure == MDBC:
+            # also the walls' no-slip velocity, from the same ghost nodes
+            b.timed(b.mdbc, n, (self.pos, self.vel, self.rho, self.kind, self.idp, self.ghost_of, self.ghost_id0,
+                                self.grid.cell_start, self.grid.gdims_arr, P, self.vwall))
         b.timed(b.pr2, n, (self.rho, self.pr2, P))
         if self.spec.sps:
             b.timed(b.sps, n, (self.pos, self.vel, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
                                self.grid.gdims_arr, P, self.tau))
-        if self.spec.no_slip:
+        if self.spec.no_slip and self.spec.wall_pressure != MDBC:
             b.timed(b.wall_velocity, n, (self.pos, self.vel, self.kind, self.grid.cell, self.grid.cell_start,
                                          self.grid.gdims_arr, P, self.vwall))
         b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,

@@ -21,7 +21,7 @@ DENSITY_DIFFUSIONS = ("none", "molteni", "fourtakas")
 INTEGRATORS = ("verlet", "symplectic", "predictor_corrector")
 TURBULENCE = ("none", "sps")
 PRECISIONS = ("float32", "float64")
-WALL_PRESSURES = ("dynamic", "adami")
+WALL_PRESSURES = ("dynamic", "adami", "mdbc")
 
 
 def _choice(name, value, allowed):
@@ -77,7 +77,7 @@ class SPHOptions:
         surface rather than at the first boundary layer (`shoal.physics.no_slip`).
         Off by default (DualSPHysics's DBC: boundary particles carry the wall
         velocity).
-    wall_pressure : {"dynamic", "adami"}
+    wall_pressure : {"dynamic", "adami", "mdbc"}
         How dynamic boundary particles get their density (and pressure):
         "dynamic" integrates their own continuity equation (DBC, Crespo et
         al. 2007; DualSPHysics's default); "adami" extrapolates the
@@ -85,7 +85,13 @@ class SPHOptions:
         hydrostatic and wall-acceleration terms at every rate evaluation
         (Adami, Hu & Adams 2012; PySPH's ``SolidWallPressureBC``), which
         stops the drag that DBC walls put on a flow sliding along them
-        (`shoal.physics.wall_pressure`).
+        (`shoal.physics.wall_pressure`); "mdbc" takes each wall particle's
+        density from the fluid at its ghost node, the particle's mirror
+        image across the wall surface, extrapolated back to first order
+        (modified DBC, English et al. 2022, as DualSPHysics 5.4;
+        `shoal.physics.mdbc`), so the fluid sits half a spacing from the
+        wall surface. With "mdbc", ``no_slip`` takes the wall velocity from
+        the ghost node too.
     density_diffusion : {"none", "molteni", "fourtakas"}
         Density diffusion term: Molteni & Colagrossi (2009) or Fourtakas et
         al. (2019) (with the hydrostatic correction). Default "fourtakas".

@@ -202,6 +202,41 @@ def _make_compact_gather(jit, spec, pair, reach2):
     return gather
 
 
+def make_periodic_wraps(jit, spec):
+    """Return ``(wrap_row, x_segment)``, the stencil's continuation across periodic faces.
+
+    ``wrap_row(y, ny, ly)`` -> (row index, y shift, use): a stencil row y off either end of a
+    periodic y axis continues at the other end, its neighbours' images shifted by the period.
+    ``x_segment(seg, ix, nx, lx)`` -> (first cell, last cell, x shift) of the segment `seg` of an
+    x-row around cell ix: 0 the cells within the grid, 1 those off the low end (cells at the high
+    end, images at x - L), 2 those off the high end; first > last when the segment is empty."""
+    n = spec.cells_per_support
+    px = bool(spec.periodic & 1)
+    py = bool(spec.periodic & 2) and spec.dim == 3
+
+    @jit
+    def wrap_row(y, ny, ly):
+        if y < 0:
+            return y + ny, ly, py
+        if y >= ny:
+            return y - ny, -ly, py
+        return y, 0.0, True
+
+    @jit
+    def x_segment(seg, ix, nx, lx):
+        if seg == 0:
+            return max(ix - n, 0), min(ix + n, nx - 1), 0.0
+        if seg == 1:
+            if px and ix - n < 0:
+                return nx + ix - n, nx - 1, lx
+            return 1, 0, 0.0
+        if px and ix + n > nx - 1:
+            return 0, ix + n - nx, -lx
+        return 1, 0, 0.0
+
+    return wrap_row, x_segment
+
+
 def _make_periodic_gather(jit, spec, pair):
     """The gather with periodic axes and/or a symmetry plane y = ys (3D).
 
@@ -218,9 +253,8 @@ def _make_periodic_gather(jit, spec, pair):
     F = spec.float_type
     zero = F(0.0)
     one, mone = F(1.0), F(-1.0)
-    px = bool(spec.periodic & 1)
-    py = bool(spec.periodic & 2) and dim == 3
     sym = bool(spec.symmetry) and dim == 3
+    wrap_row, x_segment = make_periodic_wraps(jit, spec)
 
     @jit
     def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
@@ -248,36 +282,14 @@ def _make_periodic_gather(jit, spec, pair):
                 sy = mone
             for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
                 for oy in range(-n, n + 1) if dim == 3 else range(0, 1):
-                    y = iy + oy
-                    yshift = 0.0
-                    if y < 0:
-                        if not py:
-                            continue
-                        y += ny
-                        yshift = ly
-                    elif y >= ny:
-                        if not py:
-                            continue
-                        y -= ny
-                        yshift = -ly
+                    y, yshift, use = wrap_row(iy + oy, ny, ly)
+                    if not use:
+                        continue
                     row = nx * (y + ny * z)
                     for seg in range(3):
-                        if seg == 0:
-                            a = max(ix - n, 0)
-                            b = min(ix + n, nx - 1)
-                            xshift = 0.0
-                        elif seg == 1:  # off the low end: cells at the high end, images at x - L
-                            if not px or ix - n >= 0:
-                                continue
-                            a = nx + ix - n
-                            b = nx - 1
-                            xshift = lx
-                        else:  # off the high end: cells at the low end, images at x + L
-                            if not px or ix + n <= nx - 1:
-                                continue
-                            a = 0
-                            b = ix + n - nx
-                            xshift = -lx
+                        a, b, xshift = x_segment(seg, ix, nx, lx)
+                        if a > b:
+                            continue
                         for j in range(cell_start[row + a], cell_start[row + b + 1]):
                             dx = F(xi - pos[j, 0] + xshift)
                             dz = F(zi - pos[j, dim - 1])
@@ -296,18 +308,24 @@ def _make_periodic_gather(jit, spec, pair):
     return gather
 
 
-def make_point_gather(jit, spec, pair):
+def make_point_gather(jit, spec, pair, wrap=False):
     """Return ``gather_at(x, y, z, own, acc, pos, cell_start, gdims, glo, inv_cs, data, P)``: the
     neighbours of an arbitrary point (a probe), found from its coordinates (internal order: (x, z)
     in 2D, y ignored) with the grid's lower corner `glo` and 1 / cell size `inv_cs`.
     ``pair(acc, own, j, dx, dy, dz, r2, sy, data, P)`` as for particles, with r = point - r_j.
-    Periodic images and symmetry planes are not applied to probes (a probe closer than 2h to
-    a periodic face or a symmetry plane sees only the particles on this side)."""
+
+    Without `wrap`, periodic images and symmetry planes are not applied (a probe closer than 2h to
+    a periodic face or a symmetry plane sees only the particles on this side). With `wrap` (the
+    ghost nodes of `shoal.physics.mdbc`) the point is first brought into the period and the
+    stencil continues across periodic faces as in the particle gather; symmetry planes are still
+    not applied."""
     n = spec.cells_per_support
     dim = spec.dim
     F = spec.float_type
     zero = F(0.0)
     one = F(1.0)
+    if wrap and spec.periodic:
+        return _make_periodic_point_gather(jit, spec, pair)
 
     @jit
     def gather_at(x, y, z, own, acc, pos, cell_start, gdims, glo, inv_cs, data, P):
@@ -334,6 +352,58 @@ def make_point_gather(jit, spec, pair):
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 < supp2:
                         acc = pair(acc, own, j, dx, dy, dz, r2, one, data, P)
+        return acc
+
+    return gather_at
+
+
+def _make_periodic_point_gather(jit, spec, pair):
+    """`make_point_gather` with ``wrap``: the point is brought into the period, and each row is
+    scanned as up to three segments with the neighbours' images shifted by the period, as in
+    `_make_periodic_gather`."""
+    n = spec.cells_per_support
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    one = F(1.0)
+    px = bool(spec.periodic & 1)
+    py = bool(spec.periodic & 2) and dim == 3
+    wrap_row, x_segment = make_periodic_wraps(jit, spec)
+
+    @jit
+    def gather_at(x, y, z, own, acc, pos, cell_start, gdims, glo, inv_cs, data, P):
+        nx, ny, nz = gdims
+        lx = P.per_len_x
+        ly = P.per_len_y
+        if px:
+            x = glo[0] + (x - glo[0]) % lx
+        if py:
+            y = glo[1] + (y - glo[1]) % ly
+        ix = min(max(int((x - glo[0]) * inv_cs), 0), nx - 1)
+        if dim == 3:
+            iy = min(max(int((y - glo[1]) * inv_cs), 0), ny - 1)
+            iz = int((z - glo[2]) * inv_cs)
+        else:
+            iy = 0
+            iz = int((z - glo[1]) * inv_cs)
+        supp2 = P.supp2
+        for zz in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
+            for oy in range(-n, n + 1) if dim == 3 else range(0, 1):
+                yy, yshift, use = wrap_row(iy + oy, ny, ly)
+                if not use:
+                    continue
+                row = nx * (yy + ny * zz)
+                for seg in range(3):
+                    a, b, xshift = x_segment(seg, ix, nx, lx)
+                    if a > b:
+                        continue
+                    for j in range(cell_start[row + a], cell_start[row + b + 1]):
+                        dx = F(x - pos[j, 0] + xshift)
+                        dz = F(z - pos[j, dim - 1])
+                        dy = F(y - pos[j, 1] + yshift) if dim == 3 else zero
+                        r2 = dx * dx + dy * dy + dz * dz
+                        if r2 < supp2:
+                            acc = pair(acc, own, j, dx, dy, dz, r2, one, data, P)
         return acc
 
     return gather_at

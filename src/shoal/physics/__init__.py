@@ -22,6 +22,7 @@ from .planes import make_plane_force
 from .turbulence import make_sps
 from .no_slip import make_wall_velocity
 from .wall_pressure import make_wall_pressure
+from .mdbc import make_mdbc
 from .viscosity import make_viscosity
 
 __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIXED", "MOVING"]
@@ -91,6 +92,7 @@ def build_physics(jit, spec, target="cpu"):
     particle_sps = make_sps(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_velocity = make_wall_velocity(j, spec, (w, grad_factor), make_gather, unpack)
     particle_wall_pressure = make_wall_pressure(j, spec, (w, grad_factor), pressure, make_gather, unpack)
+    particle_mdbc = make_mdbc(j, spec, (w, grad_factor), make_point_gather, unpack)
     particle_wall_force = make_wall_force(j, spec, (w, grad_factor), viscous, make_gather, unpack)
     from ..probes.interpolate import make_probe, make_sensor_moments
 
@@ -102,7 +104,8 @@ def build_physics(jit, spec, target="cpu"):
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
                            particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
-                           particle_wall_pressure=particle_wall_pressure, particle_wall_force=particle_wall_force,
+                           particle_wall_pressure=particle_wall_pressure, particle_mdbc=particle_mdbc,
+                           particle_wall_force=particle_wall_force,
                            probe=probe, sensor_moments=sensor_moments, free_surface=free_surface, wet_walls=wet_walls,
                            named_jit=j,
                            unpack=unpack)

@@ -11,7 +11,7 @@
   det A / prod A_kk < 1e-3) the Shepard filter is used instead.
 Both sum over fluid and dynamic-boundary neighbours (the boundary
 particles carry a density), and reproduce a linear (MLS) or constant
-(Shepard) density field exactly. With the Adami wall pressure
+(Shepard) density field exactly. With the Adami wall pressure or mDBC
 (`wall_pressure`) they sum over fluid neighbours only: the walls' densities
 are then the fluid's own extrapolated, not data of their own, and with them
 in the sum a falling jet went through the bed of the breaking tidal bore
@@ -28,7 +28,7 @@ def make_filters(jit, spec, kernels, make_gather, unpack):
     zero, one = F(0.0), F(1.0)
     w, _ = kernels
     tol = F(1e-3)
-    fluid_only = spec.wall_pressure
+    fluid_only = spec.wall_pressure != 0
 
     @jit
     def shepard_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):

@@ -100,7 +100,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     use_mk = spec.repulsive
     use_planes = spec.planes
     no_slip = spec.no_slip
-    wall_pressure = spec.wall_pressure
+    wall_pressure = spec.wall_pressure != 0
     two, halfq = F(2.0), F(0.5)
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
@@ -271,7 +271,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 for d in range(dim):
                     xsph[i, d] = zero
         else:
-            # with the Adami wall pressure a wall's density is extrapolated, not integrated
+            # with the Adami wall pressure or mDBC a wall's density is extrapolated, not integrated
             dr = zero if wall_pressure else gather_bound(i, (vix, viy, viz), zero, pos, cell, cell_start, gdims,
                                                          data, P)
             for d in range(dim):

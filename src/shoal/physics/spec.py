@@ -22,6 +22,10 @@ FLUID, FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING = 0, 1, 2, 3, 4
 KERNEL_IDS = {"wendland": 0, "cubic": 1}
 VISC_IDS = {"artificial": 0, "laminar": 1}
 DIFF_IDS = {"none": 0, "molteni": 1, "fourtakas": 2}
+WALL_IDS = {"dynamic": 0, "adami": 1, "mdbc": 2}
+"""How dynamic boundary particles get their density: integrated continuity (DBC), the Adami et
+al. (2012) extrapolation at the particle (`wall_pressure`), or the mDBC ghost node (`mdbc`)."""
+ADAMI, MDBC = WALL_IDS["adami"], WALL_IDS["mdbc"]
 
 
 @dataclass(frozen=True)
@@ -48,8 +52,10 @@ class SchemeSpec:
     """A symmetry plane y = const (3D): 0 none, 1 fluid on the low side, 2 on the high side."""
     no_slip: bool = False
     """Boundary particles enter the viscous term with the no-slip velocity of Adami et al. (2012)."""
-    wall_pressure: bool = False
-    """Boundary particles take the pressure extrapolated from the fluid (Adami et al. 2012)."""
+    wall_pressure: int = 0
+    """`WALL_IDS`: 0 DBC walls integrate their continuity equation; 1 (Adami et al. 2012) and
+    2 (mDBC, English et al. 2022) extrapolate the walls' density from the fluid at every rate
+    evaluation (nonzero: the walls' density is not integrated)."""
 
     @classmethod
     def from_options(cls, options, dim, periodic=(), repulsive=False, planes=False, symmetry=0):
@@ -69,7 +75,7 @@ class SchemeSpec:
             planes=bool(planes),
             symmetry=int(symmetry),
             no_slip=bool(options.no_slip),
-            wall_pressure=options.wall_pressure == "adami",
+            wall_pressure=WALL_IDS[options.wall_pressure],
         )
 
     @property
@@ -78,7 +84,7 @@ class SchemeSpec:
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
                 f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}-n{int(self.no_slip)}"
-                + ("-a" if self.wall_pressure else ""))
+                + (f"-a{self.wall_pressure}" if self.wall_pressure else ""))
 
     @property
     def float_type(self):

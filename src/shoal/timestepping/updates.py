@@ -5,8 +5,10 @@ computed in the working precision and added in float64.
 
 Fluid particles move; fixed boundary particles only update their density
 (dynamic boundary condition, Crespo et al. 2007), which is kept >= rho0 so
-that walls never attract fluid (as DualSPHysics does). With XSPH the
-particles move with v + dv_xsph.
+that walls never attract fluid (as DualSPHysics does); walls whose density
+is extrapolated from the fluid (``wall_pressure = "adami"`` or ``"mdbc"``)
+keep it as the last rate evaluation set it. With XSPH the particles move
+with v + dv_xsph.
 """
 
 from ..physics.spec import FLUID, MOVING, REPULSIVE_MOVING
@@ -19,8 +21,14 @@ def make_updates(jit, spec, unpack):
     half, two = F(0.5), F(2.0)
     use_xsph = spec.xsph
 
+    keep_walls = spec.wall_pressure != 0
+
     @jit
-    def clamp_bound(r, Parr):
+    def clamp_bound(current, r, Parr):
+        # walls whose density is extrapolated from the fluid (Adami, mDBC) keep the value of the
+        # last rate evaluation: it is not integrated, and the snapshots show it
+        if keep_walls:
+            return current
         return max(r, unpack(Parr).rho0)
 
     @jit
@@ -46,7 +54,7 @@ def make_updates(jit, spec, unpack):
             r = rho[i]
             rnew = r + dt * drho[i] if euler else rho_m1[i] + two * dt * drho[i]
             rho_m1[i] = r
-            rho[i] = clamp_bound(rnew, Parr)
+            rho[i] = clamp_bound(rho[i], rnew, Parr)
 
     @jit
     def save_state(i, pos, vel, rho, pos0, vel0, rho0):
@@ -68,7 +76,7 @@ def make_updates(jit, spec, unpack):
                 vel[i, d] = v0 + hdt * ace[i, d]
             rho[i] = rho0[i] + hdt * drho[i]
         else:
-            rho[i] = clamp_bound(rho0[i] + hdt * drho[i], Parr)
+            rho[i] = clamp_bound(rho[i], rho0[i] + hdt * drho[i], Parr)
 
     @jit
     def symplectic_correct(i, pos, vel, rho, pos0, vel0, rho0, ace, drho, xsph, kind, dt, Parr):
@@ -87,7 +95,7 @@ def make_updates(jit, spec, unpack):
                 vel[i, d] = v1
             rho[i] = rnew
         else:
-            rho[i] = clamp_bound(rnew, Parr)
+            rho[i] = clamp_bound(rho[i], rnew, Parr)
 
     @jit
     def pc_correct(i, pos, vel, rho, pos0, vel0, rho0, ace, drho, xsph, kind, dt, Parr):
@@ -107,7 +115,7 @@ def make_updates(jit, spec, unpack):
             rho[i] = two * rh - rho0[i]
         else:
             rh = rho0[i] + hdt * drho[i]
-            rho[i] = clamp_bound(two * rh - rho0[i], Parr)
+            rho[i] = clamp_bound(rho[i], two * rh - rho0[i], Parr)
 
     @jit
     def move_bodies(i, pos, vel, kind, idp, pos_init, motion_of, disp, mvel):
