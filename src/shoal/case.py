@@ -416,13 +416,16 @@ class Case(BaseModel):
         from .simulation.resources import check_generation_size
 
         check_generation_size(self, lo, hi)  # a tiny dp on a big case: refused now, not after hours
-        moving = {s.name for s in self.solids if s.motion is not None}
-        solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}")
+        solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}",
+                             group=s.motion)
                   for i, s in enumerate(self.solids)]
-        del moving
         fluids = [FluidInput(f.shape, f.velocity) for f in self.fluids]
         support = 2.0 * self.smoothing_length / self.dp
-        p = generate(self.dim, self.dp, (lo, hi), solids, fluids, support, self.lattice_origin)
+        # without an explicit domain, the shapes end one spacing inside the generation box (the empty ring
+        # `_generation_box` adds): for the wall normals nothing lies beyond them
+        shapes_box = (lo + self.dp, hi - self.dp) if self.domain is None else None
+        p = generate(self.dim, self.dp, (lo, hi), solids, fluids, support, self.lattice_origin,
+                     normals=self.options.wall_pressure == "mdbc", normals_box=shapes_box)
         if self.planes:
             behind = np.zeros(len(p), bool)
             for pl in self.planes:
@@ -431,7 +434,7 @@ class Case(BaseModel):
             if behind.any():
                 keep = ~behind
                 p = Particles(p.positions[keep], p.kinds[keep], p.velocities[keep], p.body[keep], p.region[keep],
-                              p.spacing[keep], p.body_names)
+                              p.spacing[keep], p.body_names, None if p.normals is None else p.normals[keep])
         for k in range(len(self.fluids)):
             if not np.any(p.region == k):
                 what = f"fluids[{k}] ({self.fluids[k].shape.type}) holds no particle"

@@ -83,6 +83,7 @@ def build_model(case, backend="cpu"):
     model = cls(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
                 options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
                 surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
+                wall_normals=p.normals,
                 periodic=tuple(case.domain.periodic) if case.domain else (),
                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
     model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges

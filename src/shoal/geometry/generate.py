@@ -29,6 +29,11 @@ transform only where a solid needs it (the DualSPHysics dam break at 20.8M
 particles: 14.6 s on 2 cores). Nodes are classified at points nudged
 by 1e-7 dp, so a node lying exactly on a shape's face is decided the same
 way everywhere (faces behave as half-open intervals [lo, hi)).
+
+For the modified dynamic boundary condition (mDBC) the generator also
+gives each dynamic wall particle its ghost vector, to its mirror image
+across the wall surface (``normals=True``; `shoal.geometry.normals`),
+computed in the same slabs from the same classification.
 """
 
 from __future__ import annotations
@@ -77,6 +82,14 @@ class Particles:
     spacing : (N,) float64
         Lattice spacing the particle was generated on (dp, or dp/2 for
         repulsive boundary particles).
+    body_names : list of str
+        Name of each solid (indexed by `body`).
+    normals : (N, 3) float64 or None
+        Ghost vectors [m] of the modified dynamic boundary condition (mDBC):
+        from each dynamic wall particle to its mirror image across the wall
+        surface, 2 d n (`shoal.geometry.normals`); zero rows for fluid and
+        repulsive particles and where no surface was found. None unless
+        generated with ``normals=True``.
     """
 
     positions: np.ndarray
@@ -86,6 +99,7 @@ class Particles:
     region: np.ndarray
     spacing: np.ndarray
     body_names: list = field(default_factory=list)
+    normals: np.ndarray | None = None
 
     def __len__(self):
         return len(self.positions)
@@ -109,6 +123,8 @@ class SolidInput:
     layers: int | None = None
     moving: bool = False
     name: str = ""
+    group: str | None = None
+    """Moving solids of one group (one motion) share their wall normals' mask (`shoal.geometry.normals`)."""
 
 
 @dataclass
@@ -124,13 +140,21 @@ def _axis_range(lo, hi, origin, step):
     return i0, i1 + 1
 
 
+def _nudged_range(lo, hi, origin, step, nudge):
+    """Lattice indices i [i0, i1) whose node, nudged by `nudge` spacings, lies in [lo, hi]: the
+    nodes a box holds as the shapes classify them (a node on the upper face lies outside)."""
+    return (math.ceil((lo - origin) / step - 0.5 - nudge),
+            math.floor((hi - origin) / step - 0.5 - nudge) + 1)
+
+
 def support_layers(support_ratio):
     """Number of wall layers inside the kernel support: the integers k >= 1
     with k < 2h/dp (layer k is k spacings from the first fluid row)."""
     return max(1, math.ceil(support_ratio - 1e-9) - 1)
 
 
-def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)):
+def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0), normals=False,
+             normals_box=None):
     """Particles of a case on the lattice of spacing `dp`.
 
     Parameters
@@ -147,6 +171,17 @@ def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)
         reach this far from the fluid.
     origin : 3 floats
         Lattice origin [m].
+    normals : bool
+        Also compute the ghost vectors of the dynamic wall particles for the
+        modified dynamic boundary condition (mDBC, English et al. 2022):
+        ``Particles.normals``, see `shoal.geometry.normals`.
+    normals_box : (lo, hi), optional
+        Where the geometry ends for those normals [m] (default: `box`):
+        beyond it the solids are continued by edge replication, as beyond a
+        domain face. `shoal.case.Case` gives the box of its shapes, without
+        the empty ring the automatic domain adds around them, so that the
+        outer faces of the walls on the edge of a case (a tank's, an end
+        wall's) do not count as wetted.
 
     Returns
     -------
@@ -166,7 +201,8 @@ def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)
             thick.append(float(support_layers(support_ratio)))
         else:
             thick.append(float(s.layers))
-    parts = [_generate_on(dim, dp, lo, hi, origin, solids, fluids, support_ratio, thick, fine=False)]
+    parts = [_generate_on(dim, dp, lo, hi, origin, solids, fluids, support_ratio, thick, fine=False,
+                          normals=normals, normals_box=normals_box)]
     if any(s.method == "repulsive" for s in solids):
         parts.append(_generate_on(dim, dp / 2, lo, hi, origin, solids, [], support_ratio, thick, fine=True))
     pos = np.concatenate([p[0] for p in parts])
@@ -175,13 +211,18 @@ def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)
     body = np.concatenate([p[3] for p in parts])
     region = np.concatenate([p[4] for p in parts])
     spacing = np.concatenate([np.full(len(p[0]), dp if k == 0 else dp / 2) for k, p in enumerate(parts)])
+    ghosts = None
+    if normals:  # repulsive particles (the fine lattice) have none
+        ghosts = np.concatenate([p[5] if p[5] is not None else np.zeros((len(p[0]), 3)) for p in parts])
     # fluid first, then the walls solid by solid (stable: lattice order within each)
     order = np.lexsort((np.arange(len(pos)), body))
     return Particles(pos[order], kinds[order], vel[order], body[order], region[order], spacing[order],
-                     [s.name for s in solids])
+                     [s.name for s in solids], None if ghosts is None else ghosts[order])
 
 
-def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick, fine):
+def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick, fine, normals=False,
+                 normals_box=None):
+    """(positions, kinds, velocities, body, region, ghost vectors or None) of one lattice."""
     from scipy.ndimage import distance_transform_cdt, distance_transform_edt
 
     axes = [0, 2] if dim == 2 else [0, 1, 2]
@@ -196,10 +237,26 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
     # wall-generation pad for shells (tanks): the thickness of their layers
     pads = [t * step if not fine else step for t in thick]
     dynamic = np.array([s.method != "repulsive" for s in solids], bool)
+    ghost_vectors = None
+    if normals and not fine:
+        from .normals import WallNormals
+
+        limits, end = None, (lo, hi)
+        if normals_box is not None:
+            inner = [_nudged_range(normals_box[0][a], normals_box[1][a], origin[a], step, _NUDGE[a]) for a in axes]
+            limits = (np.array([max(i0 - r[0], 0) for (i0, _), r in zip(inner, ranges)]),
+                      np.array([min(i1 - r[0], n) for (_, i1), r, n in zip(inner, ranges, shape)]))
+            if np.all(limits[1] > limits[0]):
+                end = (np.maximum(lo, normals_box[0]), np.minimum(hi, normals_box[1]))
+            else:  # holds no node: the generation box is the end
+                limits = None
+        coords = [origin[a] + (np.arange(r[0], r[1]) + 0.5) * step for a, r in zip(axes, ranges)]
+        ghost_vectors = WallNormals(dim, step, solids, pads, support_ratio, _NUDGE, coords, limits, box=end)
+        halo = max(halo, ghost_vectors.halo)  # the normals' stencil needs real neighbours across slab cuts
 
     def slab(xs):
         """Walls and fluid of the slab of lattice columns [xs, xs + nx_slab), with a halo."""
-        out_pos, out_kind, out_vel, out_body, out_region = [], [], [], [], []
+        out_pos, out_kind, out_vel, out_body, out_region, out_ghost = [], [], [], [], [], []
         xe = min(shape[0], xs + nx_slab)
         gs, ge = max(0, xs - halo), min(shape[0], xe + halo)
         idx = [np.arange(ranges[0][0] + gs, ranges[0][0] + ge)] + [np.arange(r[0], r[1]) for r in ranges[1:]]
@@ -266,6 +323,8 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
             out_vel.append(np.zeros((len(wall_idx), 3)))
             out_body.append(b.astype(np.int16))
             out_region.append(np.full(len(wall_idx), -1, np.int16))
+            if ghost_vectors is not None:
+                out_ghost.append(ghost_vectors(owner.reshape(local_shape), core, wall_idx, pts_c[wall_idx], x0=gs))
         if fluids:
             region = np.full(len(pts_c), -1, np.int32)
             for k, f in enumerate(fluids):
@@ -283,7 +342,9 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
                 out_vel.append(vels[region[fidx]])
                 out_body.append(np.full(len(fidx), -1, np.int16))
                 out_region.append(region[fidx].astype(np.int16))
-        return out_pos, out_kind, out_vel, out_body, out_region
+                if ghost_vectors is not None:
+                    out_ghost.append(np.zeros((len(fidx), 3)))
+        return out_pos, out_kind, out_vel, out_body, out_region, out_ghost
 
     starts = range(0, shape[0], nx_slab)
     workers = _slab_workers(len(starts))
@@ -295,9 +356,12 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
             slabs = list(pool.map(slab, starts))
     else:
         slabs = [slab(xs) for xs in starts]
-    out_pos, out_kind, out_vel, out_body, out_region = ([x for sl in slabs for x in sl[k]] for k in range(5))
+    out_pos, out_kind, out_vel, out_body, out_region, out_ghost = (
+        [x for sl in slabs for x in sl[k]] for k in range(6))
+    empty_ghosts = np.zeros((0, 3)) if ghost_vectors is not None else None
     if not out_pos:
         return (np.zeros((0, 3)), np.zeros(0, np.int8), np.zeros((0, 3)), np.zeros(0, np.int16),
-                np.zeros(0, np.int16))
+                np.zeros(0, np.int16), empty_ghosts)
     return (np.concatenate(out_pos), np.concatenate(out_kind), np.concatenate(out_vel),
-            np.concatenate(out_body), np.concatenate(out_region))
+            np.concatenate(out_body), np.concatenate(out_region),
+            np.concatenate(out_ghost) if ghost_vectors is not None else None)

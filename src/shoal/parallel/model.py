@@ -199,6 +199,12 @@ class DistributedModel(Model):
         # the rates: the ghosts that pass reads need their own neighbours, two supports deep
         wide = options.turbulence == "sps" or bool(options.no_slip) or options.wall_pressure == "adami"
         self.halo_width = (4.0 if wide else 2.0) * h + 0.25 * h
+        if options.wall_pressure == "mdbc" and kw.get("wall_normals") is not None:
+            # a wall ghost's density comes from the fluid around its ghost node, up to the longest
+            # ghost vector away: that fluid must be on the rank too
+            g = np.asarray(kw["wall_normals"], np.float64)
+            reach = float(np.sqrt((g ** 2).sum(axis=1)).max()) if len(g) else 0.0
+            self.halo_width = max(self.halo_width, 4.0 * h + reach + 0.25 * h)
         # with a ring of 2 ranks the neighbour on both sides is the same rank: a slab narrower than
         # two halo widths would send it a particle twice
         self.min_slab_width = (2.0 if self.ring and self.mpi_size == 2 else 1.0) * self.halo_width
@@ -216,7 +222,7 @@ class DistributedModel(Model):
         x = positions[:, 0]
         own = np.flatnonzero((x >= self.cuts[self.mpi_rank]) & (x < self.cuts[self.mpi_rank + 1]))
         mine = dict(kw)
-        for key in ("velocities", "motion_of"):
+        for key in ("velocities", "motion_of", "wall_normals"):
             if kw.get(key) is not None:
                 mine[key] = np.asarray(kw[key])[own]
         super().__init__(positions[own], kinds[own], repulsive=bool(np.any(kinds >= REPULSIVE)), **mine)
@@ -228,6 +234,8 @@ class DistributedModel(Model):
             cols = [0, 1, 2] if self.dim == 3 else [0, 2]
             self._init_motions(positions[:, cols], kinds, kw.get("motions"),
                                None if motion_of is None else np.asarray(motion_of))
+        # the ghost vectors by global id, whole on every rank (a wall particle may come to any rank)
+        self._init_wall_normals(kinds, kw.get("wall_normals"))
         self.sort_count = 0
         self.rebalances = []  # one dict per re-cut (see rebalance)
         self._capacity = self.n

@@ -39,7 +39,7 @@ References
 A. English, J. M. Dominguez, R. Vacondio, A. J. C. Crespo, P. K. Stansby, S. J. Lind,
 L. Chiapponi, M. Gomez-Gesteira, "Modified dynamic boundary conditions (mDBC) for
 general-purpose smoothed particle hydrodynamics (SPH): application to tank sloshing, dam break
-and fish pass problems", Comput. Part. Mech. 9 (2022) 1-15.
+and fish pass problems", Comput. Part. Mech. 9 (2022) 911-925, doi:10.1007/s40571-021-00403-3.
 M. B. Liu, G. R. Liu, "Restoring particle consistency in smoothed particle hydrodynamics",
 Appl. Numer. Math. 56 (2006) 19-36.
 """
