@@ -12,6 +12,8 @@ and the lowest particle, for each bed:
   its own continuity equation;
 - ``adami``: the same particles with the pressure extrapolated from the fluid (Adami et al. 2012,
   `wall_pressure = "adami"`);
+- ``mdbc``: the same particles with the density of the fluid at their ghost nodes (English et al.
+  2022, `wall_pressure = "mdbc"`);
 - ``plane``: a geometric wall plane (no particles; `shoal.physics.planes`).
 
     python benchmarks/bed_drag.py --dp 0.01                 # d0/10, about 30 s a bed on 2 threads
@@ -34,7 +36,7 @@ G = 9.81
 
 
 def stream_case(dp, bed, U=0.7, d0=0.1, length=0.4, t_end=2.0, options=None):
-    """The periodic channel over a `bed` of "dynamic", "adami" or "plane"."""
+    """The periodic channel over a `bed` of "dynamic", "adami", "mdbc" or "plane"."""
     import shoal
     from shoal.case import Domain, WallPlane
     from shoal.cases.tidal_bore import PAPER_OPTIONS
@@ -42,8 +44,8 @@ def stream_case(dp, bed, U=0.7, d0=0.1, length=0.4, t_end=2.0, options=None):
 
     opts = dict(PAPER_OPTIONS, alpha=0.02)
     opts.update(options or {})
-    if bed == "adami":
-        opts["wall_pressure"] = "adami"
+    if bed in ("adami", "mdbc"):
+        opts["wall_pressure"] = bed
     solids, planes = [], []
     if bed == "plane":
         planes = [WallPlane(point=(0, 0, 0), normal=(0, 0, 1))]
@@ -91,7 +93,7 @@ def main(argv=None):
     p.add_argument("--length", type=float, default=0.4, help="period along x [m]")
     p.add_argument("--t-end", type=float, default=2.0, help="end time [s]")
     p.add_argument("--every", type=float, default=0.25, help="sampling interval [s]")
-    p.add_argument("--beds", nargs="+", default=["dynamic", "adami", "plane"], choices=["dynamic", "adami", "plane"])
+    p.add_argument("--beds", nargs="+", default=["dynamic", "adami", "plane"], choices=["dynamic", "adami", "mdbc", "plane"])
     p.add_argument("--options", type=json.loads, default={}, help="SPHOptions over the scheme, as JSON")
     p.add_argument("--json", type=Path, default=None, help="also write the results here")
     a = p.parse_args(argv)

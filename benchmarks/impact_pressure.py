@@ -59,7 +59,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--dp", type=float, default=0.05)
     ap.add_argument("--end", type=float, default=1.0)
-    ap.add_argument("--wall", default=WALLS["wall_pressure"], choices=["dynamic", "adami"])
+    ap.add_argument("--wall", default=WALLS["wall_pressure"], choices=["dynamic", "adami", "mdbc"])
     ap.add_argument("--json", help="also write the figures to this JSON file")
     a = ap.parse_args(argv)
     opts = SPHOptions(**{**WALLS, "wall_pressure": a.wall})

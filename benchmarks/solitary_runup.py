@@ -73,7 +73,7 @@ def main(argv=None):
     ap.add_argument("--H", type=float, default=0.05, help="wave height over depth H/d")
     ap.add_argument("--cot", type=float, default=10.0, help="beach slope 1:cot")
     ap.add_argument("--ddp", type=float, default=20.0, help="d / dp")
-    ap.add_argument("--wall", default="dynamic", choices=["dynamic", "adami"])
+    ap.add_argument("--wall", default="dynamic", choices=["dynamic", "adami", "mdbc"])
     ap.add_argument("--scheme", default="wave", choices=["wave", "default"],
                     help="the wave flumes' options (laminar, free-slip viscous walls, wide kernel) or the defaults")
     ap.add_argument("--out", help="keep the run here (else a temporary folder)")

@@ -354,6 +354,52 @@ def test_adami_wall_pressure_matches_cpu():
         assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a)), name
 
 
+def _mdbc_pair(dim, precision):
+    """CPU and CUDA models of a small tank with mDBC walls and no-slip (2D: the dam break of `_pair`;
+    3D: a 0.1 x 0.06 x 0.1 m tank, dp = 0.02 m, a few hundred particles for the simulator)."""
+    if dim == 2:
+        return _pair(precision, wall_pressure="mdbc", no_slip=True)
+    from shoal.case import Case, Fluid, FluidRegion, Solid
+    from shoal.geometry.shapes import Box, Tank
+
+    case = Case(name="tank", dim=3, dp=0.02, fluid=Fluid(depth=0.06, surface_level=0.06),
+                options={"precision": precision, "wall_pressure": "mdbc", "no_slip": True},
+                solids=[Solid(shape=Tank(lo=(0, 0, 0), hi=(0.1, 0.06, 0.1)), layers=2)],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.1, 0.06, 0.06)))])
+    return build_model(case, "cpu"), build_model(case, "cuda")
+
+
+@needs_cuda
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("precision,tol", [("float64", 1e-9), ("float32", 1e-4)])
+def test_mdbc_walls_match_cpu(dim, precision, tol):
+    """mDBC walls (`shoal.physics.mdbc`) with no-slip: the walls' densities from their ghost nodes, their
+    no-slip velocities and the rates they give the fluid are the CPU's on the CUDA backend, with a random
+    fluid density and velocity (so that the first-order fit and the mirrored velocity are exercised)."""
+    cpu, gpu = _mdbc_pair(dim, precision)
+    rng = np.random.default_rng(11)
+    fl = cpu.host(cpu.kind) == 0
+    v = 0.2 * rng.standard_normal(cpu.vel.shape)
+    v[~fl] = 0
+    cpu.vel[:] = v.astype(cpu.dtype)
+    gpu.vel.copy_to_device(v.astype(cpu.dtype))
+    rho = cpu.host(cpu.rho).astype(np.float64)
+    rho[fl] *= 1 + 2e-3 * rng.standard_normal(fl.sum())
+    cpu.rho[:] = rho.astype(cpu.dtype)
+    gpu.rho.copy_to_device(rho.astype(cpu.dtype))
+    for m in (cpu, gpu):
+        m.sort()
+        m.compute_rates()
+    walls = _by_id(cpu, cpu.kind) != 0
+    a, b = _by_id(cpu, cpu.rho), _by_id(gpu, gpu.rho)
+    assert np.any(a[walls] > 1000.0 * (1 + 1e-3))  # the walls took the fluid's density
+    assert np.max(np.abs(a - b)) <= tol * 1000.0
+    for name in ("vwall", "ace", "drho"):
+        a, b = _by_id(cpu, getattr(cpu, name)), _by_id(gpu, getattr(gpu, name))
+        assert np.max(np.abs(a)) > 0, name
+        assert np.max(np.abs(a - b)) <= tol * np.max(np.abs(a)), name
+
+
 @needs_cuda
 def test_repulsive_walls_and_planes_match_cpu():
     """Monaghan-Kajtar walls and a wall plane: the same motion on the CUDA backend (8 steps of a small tank)."""

@@ -106,7 +106,8 @@ def test_pack_unpack_round_trip():
 
 def test_halo_migration_and_rates(mpiexec):
     """Rates near the slab cut equal the single-process rates to round-off (float32, after random
-    displacements, velocities and densities; default scheme and SPS + XSPH + diffusion); the time step
+    displacements, velocities and densities; default scheme, SPS + XSPH + diffusion, and mDBC walls,
+    whose densities too are compared); the time step
     is the same; particles pushed across the cut each way end up on exactly one rank. The particle probes
     (tracked positions, the nearest fluid particles to start points, max-z and run-up gauges with
     regions across the cut) equal the single-process Model's on the same particles exactly (a max and a
@@ -120,6 +121,7 @@ def test_halo_migration_and_rates(mpiexec):
     assert res["default_fluid_near_cut"] > 100
     assert res["default_rates_rel_err"] < 1e-5, res
     assert res["sps_xsph_symplectic_rates_rel_err"] < 1e-5, res
+    assert res["mdbc_rates_rel_err"] < 1e-5, res  # mDBC walls: halo as deep as their ghost nodes
     assert res["default_dt_rel_err"] < 1e-6 and res["sps_xsph_symplectic_dt_rel_err"] < 1e-6, res
     assert res["migration_unique"] and res["migration_moved_on_one_rank"] and res["migration_owned_inside_slab"], res
     # trackers, max-z and run-up gauges over the cut: exactly the single-process values, on every rank, from

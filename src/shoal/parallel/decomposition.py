@@ -28,7 +28,8 @@ def _too_many(lo, hi, nranks, min_width):
     if nranks > max_ranks:
         return (f"{nranks} MPI ranks are too many for this case: the particles span x = {lo:.4g} .. "
                 f"{hi:.4g} m and each rank's slab must be at least the halo width {min_width:.4g} m wide "
-                f"(2h, or 4h with SPS or no-slip walls, plus a margin): use at most {max_ranks} ranks")
+                f"(2h; 4h with SPS, no-slip or Adami walls; 4h and the ghost vectors with mDBC walls; plus a "
+                f"margin): use at most {max_ranks} ranks")
     return None
 
 

@@ -200,10 +200,11 @@ class DistributedModel(Model):
         wide = options.turbulence == "sps" or bool(options.no_slip) or options.wall_pressure == "adami"
         self.halo_width = (4.0 if wide else 2.0) * h + 0.25 * h
         if options.wall_pressure == "mdbc" and kw.get("wall_normals") is not None:
-            # a wall ghost's density comes from the fluid around its ghost node, up to the longest
-            # ghost vector away: that fluid must be on the rank too
+            # a wall ghost's density comes from the fluid within 2h of its ghost node, which lies up
+            # to the largest x component of a ghost vector away across the slab cut (the cuts are
+            # planes x = const): that fluid must be on the rank too
             g = np.asarray(kw["wall_normals"], np.float64)
-            reach = float(np.sqrt((g ** 2).sum(axis=1)).max()) if len(g) else 0.0
+            reach = float(np.abs(g[:, 0]).max()) if len(g) else 0.0
             self.halo_width = max(self.halo_width, 4.0 * h + reach + 0.25 * h)
         # with a ring of 2 ranks the neighbour on both sides is the same rank: a slab narrower than
         # two halo widths would send it a particle twice
