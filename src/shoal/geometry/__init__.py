@@ -4,6 +4,8 @@
   `Cylinder`, `Bathymetry`, `Mesh` (STL): regions that solids and fluid
   regions are made of;
 * :mod:`shoal.geometry.generate` -- lattice filling and wall layers;
+* :mod:`shoal.geometry.normals` -- the walls' ghost vectors (mirror images
+  across the wall surface) for the mDBC boundary condition;
 * :mod:`shoal.geometry.mesh` -- STL reading and inside tests;
 * :mod:`shoal.geometry.lattice` -- low-level lattice helpers.
 """
