@@ -157,7 +157,7 @@ _COSTLY_FILES = ("test_mpi.py", "test_tidal_bore.py", "test_still_water.py", "te
                  "test_cases.py", "test_symmetry.py",  # 119, 116
                  "test_dam_break.py", "test_pressure_sensors.py",  # 61, 54 (one process, 2026-12-04)
                  "test_periodic.py", "test_free_surface.py", "test_wall_pressure.py",  # 61-48
-                 "test_refcounts.py", "test_probes_runup.py",  # 35, 31 (one process)
+                 "test_refcounts.py", "test_probes_runup.py", "test_mdbc.py",  # 35, 31, 42 (one process, loaded)
                  "test_checkpoint.py", "test_validate.py", "test_conservation.py",  # 35-28
                  "test_flow_gauge.py", "test_turbulence.py", "test_mpi_cuda.py", "test_determinism.py",  # 25-17
                  "test_filters.py", "test_cache_lock.py", "test_benchmark_script.py", "test_cuda_grid.py")
