@@ -16,10 +16,13 @@ grad W = grad_g W(x_g - x_f):
     [ sum V W          sum V W e^T         ] [ rho_g      ]   [ sum m W      ]
     [ sum V grad W     sum V grad W e^T    ] [ grad rho_g ] = [ sum m grad W ]
 
-(a 3x3 system in 2D, 4x4 in 3D). Where the system is nearly singular (|det| < 1e-3: a ghost near
-the free surface or with few neighbours) the Shepard average sum m W / sum V W is used instead,
-and a wall particle whose ghost node has no fluid neighbour takes rho0 (DualSPHysics's
-``JSphCpu::InteractionMdbcCorrectionT2``). The density is held at rho0 or above, so that a wall
+(a 3x3 system in 2D, 4x4 in 3D). Where the fit cannot be trusted the Shepard average
+sum m W / sum V W is used instead: a nearly singular system (|det| < 1e-3, DualSPHysics's
+``JSphCpu::InteractionMdbcCorrectionT2``), and, as DualSPHysics 5.4's mDBC2 does, a ghost node
+with a kernel sum sum V W below 0.1 or an ill-conditioned system (infinity-norm condition number
+above 50): a ghost node at the edge of a thin layer of water, whose few neighbours leave the
+gradient to the kernel's shape rather than the data. A wall particle whose ghost node has no
+fluid neighbour takes rho0. The density is held at rho0 or above, so that a wall
 never pulls fluid towards it (as DBC's integrator and the Adami wall pressure do). The wall's
 continuity equation is not integrated: its density is this extrapolation, recomputed at every
 rate evaluation.
@@ -52,6 +55,13 @@ from .spec import FLUID, REPULSIVE
 DETERMINANT_LIMIT = 1e-3
 """|det| of the (scaled) correction matrix below which the Shepard average replaces the
 first-order fit (DualSPHysics's ``determlimit``)."""
+KERNEL_SUM_MIN = 0.1
+"""Kernel sum sum V W at the ghost node below which the Shepard average (at least rho0) replaces
+the fit (DualSPHysics 5.4's mDBC2): a ghost node at the edge of a thin layer."""
+CONDITION_MAX = 50.0
+"""Infinity-norm condition number of the (h-scaled) correction matrix above which the Shepard
+average replaces the fit (DualSPHysics 5.4's mDBC2 threshold, here on the scaled matrix, which is
+about 1 where the ghost node's support is full)."""
 
 
 def make_determinants(jit):
@@ -81,6 +91,38 @@ def make_determinants(jit):
     return det3, det4
 
 
+def make_conditions(jit, det3):
+    """Return ``(cond3, cond4)``: the infinity-norm condition number ||A|| ||A^-1|| of a 3x3 or 4x4
+    matrix given row by row with its determinant (A^-1 = adj(A) / det, the adjugate's entries the
+    cofactors)."""
+
+    @jit
+    def cond3(a, b, c, d, e, f, g, h, k, det):
+        n = max(abs(a) + abs(b) + abs(c), abs(d) + abs(e) + abs(f), abs(g) + abs(h) + abs(k))
+        # rows of the adjugate (the cofactors of the columns)
+        r1 = abs(e * k - f * h) + abs(c * h - b * k) + abs(b * f - c * e)
+        r2 = abs(f * g - d * k) + abs(a * k - c * g) + abs(c * d - a * f)
+        r3 = abs(d * h - e * g) + abs(b * g - a * h) + abs(a * e - b * d)
+        return n * max(r1, r2, r3) / abs(det)
+
+    @jit
+    def cond4(a11, a12, a13, a14, a21, a22, a23, a24, a31, a32, a33, a34, a41, a42, a43, a44, det):
+        n = max(abs(a11) + abs(a12) + abs(a13) + abs(a14), abs(a21) + abs(a22) + abs(a23) + abs(a24),
+                abs(a31) + abs(a32) + abs(a33) + abs(a34), abs(a41) + abs(a42) + abs(a43) + abs(a44))
+        # row i of the adjugate holds the cofactors C_ji, |C_ji| = |minor without row j, column i|
+        r1 = (abs(det3(a22, a23, a24, a32, a33, a34, a42, a43, a44)) + abs(det3(a12, a13, a14, a32, a33, a34, a42, a43, a44))
+              + abs(det3(a12, a13, a14, a22, a23, a24, a42, a43, a44)) + abs(det3(a12, a13, a14, a22, a23, a24, a32, a33, a34)))
+        r2 = (abs(det3(a21, a23, a24, a31, a33, a34, a41, a43, a44)) + abs(det3(a11, a13, a14, a31, a33, a34, a41, a43, a44))
+              + abs(det3(a11, a13, a14, a21, a23, a24, a41, a43, a44)) + abs(det3(a11, a13, a14, a21, a23, a24, a31, a33, a34)))
+        r3 = (abs(det3(a21, a22, a24, a31, a32, a34, a41, a42, a44)) + abs(det3(a11, a12, a14, a31, a32, a34, a41, a42, a44))
+              + abs(det3(a11, a12, a14, a21, a22, a24, a41, a42, a44)) + abs(det3(a11, a12, a14, a21, a22, a24, a31, a32, a34)))
+        r4 = (abs(det3(a21, a22, a23, a31, a32, a33, a41, a42, a43)) + abs(det3(a11, a12, a13, a31, a32, a33, a41, a42, a43))
+              + abs(det3(a11, a12, a13, a21, a22, a23, a41, a42, a43)) + abs(det3(a11, a12, a13, a21, a22, a23, a31, a32, a33)))
+        return n * max(r1, r2, r3, r4) / abs(det)
+
+    return cond3, cond4
+
+
 def make_mdbc(jit, spec, kernels, make_point_gather, unpack):
     """Return ``particle_mdbc(i, pos, vel, rho, kind, idp, ghost_of, id0, cell_start, grid_dims, Parr,
     vwall)`` writing the mDBC density of dynamic boundary particle i into ``rho[i]`` (and, with
@@ -94,7 +136,10 @@ def make_mdbc(jit, spec, kernels, make_point_gather, unpack):
     no_slip = spec.no_slip
     w, grad_factor = kernels
     det3, det4 = make_determinants(jit)
+    cond3, cond4 = make_conditions(jit, det3)
     limit = F(DETERMINANT_LIMIT)
+    sum_min = F(KERNEL_SUM_MIN)
+    cond_max = F(CONDITION_MAX)
     two = F(2.0)
 
     if dim == 2:
@@ -169,7 +214,8 @@ def make_mdbc(jit, spec, kernels, make_point_gather, unpack):
             if a11 > z0:
                 r = rho0 + b1 / a11
                 det = det3(a11, a12, a13, a21, a22, a23, a31, a32, a33)
-                if abs(det) >= limit:
+                if (a11 >= sum_min and abs(det) >= limit
+                        and cond3(a11, a12, a13, a21, a22, a23, a31, a32, a33, det) <= cond_max):
                     # Cramer's rule: rho_g, and grad rho_g scaled by h
                     rg = det3(b1, a12, a13, b2, a22, a23, b3, a32, a33) / det
                     sx = det3(a11, b1, a13, a21, b2, a23, a31, b3, a33) / det
@@ -196,7 +242,9 @@ def make_mdbc(jit, spec, kernels, make_point_gather, unpack):
             if a11 > z0:
                 r = rho0 + b1 / a11
                 det = det4(a11, a12, a13, a14, a21, a22, a23, a24, a31, a32, a33, a34, a41, a42, a43, a44)
-                if abs(det) >= limit:
+                if (a11 >= sum_min and abs(det) >= limit
+                        and cond4(a11, a12, a13, a14, a21, a22, a23, a24, a31, a32, a33, a34, a41, a42, a43, a44,
+                                  det) <= cond_max):
                     rg = det4(b1, a12, a13, a14, b2, a22, a23, a24, b3, a32, a33, a34, b4, a42, a43, a44) / det
                     sx = det4(a11, b1, a13, a14, a21, b2, a23, a24, a31, b3, a33, a34, a41, b4, a43, a44) / det
                     sy = det4(a11, a12, b1, a14, a21, a22, b2, a24, a31, a32, b3, a34, a41, a42, b4, a44) / det
