@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from shoal.analysis import load_reference, mean_relative_error, surge_front
+from shoal.analysis import load_reference, mean_relative_error, outside_band, surge_front
 from shoal.cases import dam_break_2d
 from shoal.options import SPHOptions
 from shoal.runner import build_model
@@ -54,15 +54,11 @@ def main(argv=None):
         for wall in a.wall:
             T, Z, sec, npart = front(n, wall)
             err = mean_relative_error(T, Z, Tm, Zm, 0.8, 3.0)
-            band = []
-            for t in np.arange(0.8, 3.001, 0.2):
-                lo, hi = sorted((np.interp(t, Tm, Zm), np.interp(t, Tk, Zk)))
-                z = np.interp(t, T, Z)
-                band.append(max(lo - z, z - hi, 0.0) / lo)
+            band = outside_band(T, Z, (Tm, Zm), (Tk, Zk), np.arange(0.8, 3.001, 0.2))
             at = {t: float(np.interp(t, T, Z) / np.interp(t, Tm, Zm) - 1) for t in (1.0, 2.0, 3.0)}
-            print(f"{n:5g} {wall:8} {npart:9,d} {100 * err:7.2f}% {100 * max(band):5.2f}% "
+            print(f"{n:5g} {wall:8} {npart:9,d} {100 * err:7.2f}% {100 * band:5.2f}% "
                   f"{100 * at[1.0]:+6.2f}% {100 * at[2.0]:+6.2f}% {100 * at[3.0]:+6.2f}% {sec:6.0f}", flush=True)
-            out.append(dict(n_per_a=n, wall=wall, particles=npart, mean_rel_err_mm=err, band=max(band),
+            out.append(dict(n_per_a=n, wall=wall, particles=npart, mean_rel_err_mm=err, band=band,
                             rel_err_at_T={str(k): v for k, v in at.items()}, seconds=sec, T=T.tolist(), Z=Z.tolist()))
     if a.json:
         with open(a.json, "w") as f:

@@ -2,12 +2,12 @@
 
 from .bore import (arrival_time, bore_from_inflow, celerity, crest_speed_ratio, front_position, level_behind,
                    undulations, volume_depth)
-from .front import surge_front
+from .front import outside_band, surge_front
 from .mean_flow import depth_average, mse, period_average, rmse, set_up, vorticity
 from .reference import load_reference, mean_relative_error
 from .waves import ReflectionAnalysis, WaveStatistics, harmonic_amplitude, phase_speed, reflection_analysis, wave_statistics
 
-__all__ = ["surge_front", "load_reference", "mean_relative_error", "period_average", "depth_average", "set_up",
+__all__ = ["surge_front", "outside_band", "load_reference", "mean_relative_error", "period_average", "depth_average", "set_up",
            "vorticity", "rmse", "mse", "bore_from_inflow", "arrival_time", "celerity", "volume_depth", "front_position",
            "level_behind", "undulations", "crest_speed_ratio", "wave_statistics", "phase_speed", "WaveStatistics",
            "reflection_analysis", "harmonic_amplitude", "ReflectionAnalysis"]

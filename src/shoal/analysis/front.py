@@ -14,3 +14,15 @@ def surge_front(model, x0=0.0):
     """
     fluid = model.host(model.kind) == FLUID
     return float(np.max(model.host(model.pos)[:, 0][fluid])) - x0
+
+
+def outside_band(T, Z, band_a, band_b, times):
+    """Largest distance of a front Z(T) outside the band between two experiments, relative to the
+    band's lower edge, over `times`: max_t max(lo - Z, Z - hi, 0) / lo, with (lo, hi) the two
+    experiments' fronts at t (each a (T, Z) pair of arrays, interpolated linearly)."""
+    worst = 0.0
+    for t in times:
+        lo, hi = sorted((np.interp(t, *band_a), np.interp(t, *band_b)))
+        z = np.interp(t, T, Z)
+        worst = max(worst, max(lo - z, z - hi, 0.0) / lo)
+    return float(worst)
