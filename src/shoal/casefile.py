@@ -260,8 +260,8 @@ KEY_DOCS = {
     "alpha": "artificial viscosity coefficient",
     "visco_bound_factor": "factor on the viscous term of fluid-wall pairs (0 = free-slip walls)",
     "no_slip": "no-slip wall velocity of Adami et al. (2012) in the viscous term",
-    "wall_pressure": ('"dynamic" (wall particles integrate continuity), "adami" (extrapolated from the fluid) '
-                      'or "mdbc" (from the fluid at their mirror images across the wall)'),
+    "wall_pressure": ('"adami" (default: extrapolated from the fluid), "dynamic" (wall particles integrate '
+                      'continuity, DBC) or "mdbc" (from the fluid at their mirror images across the wall)'),
     "nu": "kinematic viscosity [m^2/s] (laminar)",
     "density_diffusion": '"fourtakas", "molteni" or "none"',
     "delta": "density diffusion coefficient",

@@ -116,7 +116,7 @@ def dualsphysics_particle_estimate(dp, layers=1):
 
 DUALSPHYSICS_OPTIONS = dict(kernel="cubic", tensile_correction=True, coef_h=1.0, coef_sound=20.0,
                             viscosity="artificial", alpha=0.1, density_diffusion="fourtakas", delta=0.1,
-                            integrator="verlet", verlet_euler_every=40, cfl=0.2)
+                            integrator="verlet", verlet_euler_every=40, cfl=0.2, wall_pressure="dynamic")
 
 
 def dam_break_dualsphysics(dp=0.0085, end_time=1.5, output_interval=0.01, precision="float32",

@@ -28,7 +28,8 @@ class DamBreak2D(ValidationCase):
     setup = ("`dam-break-2d`: a water column a = 0.146 m wide and 2a high at the left wall of a tank 5a "
              "long, released at t = 0; the front is the largest x of the fluid particles, recorded every "
              "dT = 0.05 to T = 3.3. Wendland kernel, alpha = 0.1, Fourtakas delta = 0.1, symplectic, "
-             "float32, 3 layers of dynamic boundary particles.")
+             "float32, 3 layers of wall particles with the pressure extrapolated from the fluid (Adami et "
+             "al. 2012) (the defaults).")
     reference = ("Martin & Moyce (1952), Phil. Trans. R. Soc. A 244, Table 2 (n^2 = 2, a = 2.25 in), typed "
                  "by the Ocellaris author; Koshizuka & Oka (1996), Nucl. Sci. Eng. 123, experimental front "
                  "digitised by the PySPH authors. Both ship in `src/shoal/data/` with their source lines "

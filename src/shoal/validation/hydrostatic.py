@@ -30,8 +30,8 @@ class Hydrostatic(ValidationCase):
              "the hydrostatic density, run to t_end; the particle pressures are averaged over the last "
              "t_avg (10 samples) and compared with rho0 g (H - z) away from the side walls (the middle "
              "60 % of the tank) and more than one kernel support 2h above the bed. Wendland kernel, "
-             "alpha = 0.1, Fourtakas delta = 0.1, symplectic, float32, 3 layers of dynamic boundary "
-             "particles (the case's defaults).")
+             "alpha = 0.1, Fourtakas delta = 0.1, symplectic, float32, 3 layers of wall particles with "
+             "the pressure extrapolated from the fluid (Adami et al. 2012) (the case's defaults).")
     reference = "Analytic: p(z) = rho0 g (H - z); the free surface stays at z = H."
     tolerance_text = ("max |p - rho0 g (H - z)| <= 2 % of rho0 g H: the pressure of weakly-compressible "
                       "SPH carries acoustic noise and the wall particles' noise, a few per cent of rho0 g H "
