@@ -265,6 +265,7 @@ KEY_DOCS = {
     "nu": "kinematic viscosity [m^2/s] (laminar)",
     "density_diffusion": '"fourtakas", "molteni" or "none"',
     "delta": "density diffusion coefficient",
+    "riemann": "pair pressures and velocities from the Riemann solver of Zhang, Hu & Adams (2017)",
     "xsph": "XSPH epsilon (0 = off)",
     "tensile_correction": "Monaghan (2000) tensile correction",
     "turbulence": '"none" or "sps" (Smagorinsky sub-particle-scale stress)',

@@ -108,6 +108,14 @@ class SPHOptions:
         al. (2019) (with the hydrostatic correction). Default "fourtakas".
     delta : float
         Density diffusion coefficient (0.1 in DualSPHysics).
+    riemann : bool
+        Take each pair's pressure and velocity in the momentum and
+        continuity equations from the linearised Riemann solution between
+        the two particles, with the low-dissipation limiter of Zhang, Hu &
+        Adams (2017) (`shoal.physics.riemann`): a dissipation that acts on
+        compression and on acoustic pressure jumps, in place of artificial
+        viscosity and density diffusion (use it with ``alpha = 0`` or
+        laminar viscosity and ``density_diffusion = "none"``, as they do).
     xsph : float
         XSPH velocity-correction coefficient epsilon (Monaghan 1989);
         0 disables it; 0.5 in the tidal-bore paper.
@@ -165,6 +173,7 @@ class SPHOptions:
     wall_pressure: str = "adami"
     density_diffusion: str = "fourtakas"
     delta: float = 0.1
+    riemann: bool = False
     xsph: float = 0.0
     turbulence: str = "none"
     sps_cs: float = 0.12

@@ -8,6 +8,8 @@ Momentum with the symmetric pressure term, viscosity and gravity:
 (R_ij the Monaghan (2000) tensile correction when enabled, Pi_ij the
 artificial and lam_ij the laminar viscous term, see `viscosity`; both
 multiplied by `visco_bound_factor` when j is a boundary particle.)
+With ``riemann = true`` the pressures and velocities of each pair are replaced by the pair's
+Riemann solution (p*, v*) of Zhang, Hu & Adams (2017) (`shoal.physics.riemann`).
 XSPH (Monaghan 1989): dx_i/dt = v_i + eps sum_j (m_j / rho_ij) v_ji W_ij.
 SPS turbulence (when on): + sum_j m_j (tau_i/rho_i^2 + tau_j/rho_j^2) . grad_i W_ij
 between fluid particles, tau from `turbulence` (Dalrymple & Rogers 2006).
@@ -29,6 +31,7 @@ The time-step limit needs max_j |h v_ij . r_ij / (r_ij^2 + eta^2)|
 """
 
 from .reciprocals import make_reciprocals
+from .riemann import make_riemann
 from .spec import FLUID, REPULSIVE
 
 
@@ -101,6 +104,8 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     use_planes = spec.planes
     no_slip = spec.no_slip
     wall_pressure = spec.wall_pressure != 0
+    riemann = spec.riemann
+    riemann_pair = make_riemann(jit, spec)
     two, halfq = F(2.0), F(0.5)
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
@@ -166,10 +171,13 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 wy = viy - sy * vwall[j, 1] if dim == 3 else zero
                 vdotr_v = wx * dx + wy * dy + wz * dz
         inv_a, inv_s, inv_rhoj = reciprocals(r2, P.eta2, rhoi, rhoj)
-        # continuity, with density diffusion between fluid particles only
-        dr += mj * vdotr * fr + fl * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
-        # momentum
-        prs = pr2i + pr2j
+        # continuity, with density diffusion between fluid particles only; momentum's pressure factor
+        if riemann:
+            prs, cont = riemann_pair(pr2i * rhoi * rhoi, pr2j * rhoj * rhoj, rhoi, rhoj, vdotr, r,
+                                     P.gx * dx + P.gy * dy + P.gz * dz, inv_s, P)
+        else:
+            prs, cont = pr2i + pr2j, vdotr
+        dr += mj * cont * fr + fl * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
         if tensile:
             prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
         pi_ij, lam = viscous(vdotr_v, r2, fr, mj, inv_a, inv_s, P)

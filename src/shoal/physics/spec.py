@@ -52,6 +52,8 @@ class SchemeSpec:
     """A symmetry plane y = const (3D): 0 none, 1 fluid on the low side, 2 on the high side."""
     no_slip: bool = False
     """Boundary particles enter the viscous term with the no-slip velocity of Adami et al. (2012)."""
+    riemann: bool = False
+    """Pair pressures and velocities from the Riemann solver of Zhang, Hu & Adams (2017)."""
     wall_pressure: int = 0
     """`WALL_IDS`: 0 DBC walls integrate their continuity equation; 1 (Adami et al. 2012) and
     2 (mDBC, English et al. 2022) extrapolate the walls' density from the fluid at every rate
@@ -76,6 +78,7 @@ class SchemeSpec:
             symmetry=int(symmetry),
             no_slip=bool(options.no_slip),
             wall_pressure=WALL_IDS[options.wall_pressure],
+            riemann=bool(options.riemann),
         )
 
     @property
@@ -84,7 +87,7 @@ class SchemeSpec:
         return (f"d{self.dim}-{self.precision}-k{self.kernel}-v{self.viscosity}-"
                 f"dd{self.diffusion}-t{int(self.tensile)}-x{int(self.xsph)}-c{self.cells_per_support}"
                 f"-p{self.periodic}-s{int(self.sps)}-r{int(self.repulsive)}-w{int(self.planes)}-m{self.symmetry}-n{int(self.no_slip)}"
-                + (f"-a{self.wall_pressure}" if self.wall_pressure else ""))
+                + (f"-a{self.wall_pressure}" if self.wall_pressure else "") + ("-R" if self.riemann else ""))
 
     @property
     def float_type(self):
