@@ -50,10 +50,14 @@ def main(argv=None):
     ap.add_argument("--interval", type=float, default=2e-4)
     ap.add_argument("--wall", nargs="+", default=["dynamic", "adami"])
     ap.add_argument("--option", action="append", default=[], help="extra SPH option KEY=VALUE")
+    ap.add_argument("--save", type=Path, help="folder to keep each run's sensor records in (pressure_*.csv)")
     a = ap.parse_args(argv)
     extra = {}
     for kv in a.option:
         k, v = kv.split("=", 1)
+        if v.lower() in ("true", "false"):
+            extra[k] = v.lower() == "true"
+            continue
         try:
             extra[k] = float(v) if "." in v or "e" in v else int(v)
         except ValueError:
@@ -72,6 +76,11 @@ def main(argv=None):
             shoal.run_case(case, Path(tmp), progress=False, plot=False)
             data = {m: np.loadtxt(Path(tmp) / f"pressure_wall_{m}.csv", delimiter=",", skiprows=1)
                     for m in ("hydrostatic", "linear")}
+            if a.save:
+                tag = "_".join([wall] + [f"{k}{v}" for k, v in extra.items()])
+                a.save.mkdir(parents=True, exist_ok=True)
+                for m in data:
+                    (a.save / f"pressure_{m}_{tag}.csv").write_bytes((Path(tmp) / f"pressure_wall_{m}.csv").read_bytes())
         print(f"wall_pressure = {wall} {extra or ''}, dp = {a.dp:.4g} m (H/dp = {2 * A / a.dp:.0f}), "
               f"{case.n_particles:,} particles, sensors every {a.interval * 1e3:g} ms")
         print(f"  {'z/a':>5} {'method':12} {'contact':>8} {'peak t':>8} {'peak':>7} {'min':>7} {'ringing':>8}")

@@ -147,6 +147,8 @@ def main(argv=None):
                    help="the bed: dynamic boundary particles, Monaghan-Kajtar particles or a wall plane")
     p.add_argument("--settle", type=float, default=0.0,
                    help="let the still column settle this long [s] (velocities relaxed) before the wave starts")
+    p.add_argument("--riemann", action="store_true", help="the Riemann pair terms (Zhang, Hu & Adams 2017)")
+    p.add_argument("--wall-pressure", default="adami", choices=("dynamic", "adami", "mdbc"))
     p.add_argument("--csv", help="write the energy series (t, E, KE) here")
     a = p.parse_args(argv)
 
@@ -157,7 +159,7 @@ def main(argv=None):
     opts = SPHOptions(kernel=a.kernel, viscosity=a.viscosity, alpha=a.alpha, nu=a.nu,
                       density_diffusion=a.density_diffusion, delta=a.delta, coef_h=a.coef_h,
                       coef_sound=a.coef_sound, visco_bound_factor=a.visco_bound_factor, integrator=a.integrator,
-                      cfl=a.cfl, precision=a.precision)
+                      cfl=a.cfl, precision=a.precision, riemann=a.riemann, wall_pressure=a.wall_pressure)
     amp = 0.5 * a.height
     case, k, L, dp = build(a.dp, a.depth, a.period, amp, opts, bed=a.bed)
     w = 2 * math.pi / a.period
