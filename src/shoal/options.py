@@ -93,8 +93,8 @@ class SPHOptions:
         the ghost node too.
 
         Adami is the default because it was measured the best or equal best
-        of the three where they differ, at 1 % over DBC's cost (mDBC: 46 %
-        on a wall-heavy 3D tank): a dam-break surge floats 0.8 dp over its
+        of the three where they differ, at DBC's cost (mDBC: 37 % more on
+        a 3D tank of 87 % walls): a dam-break surge floats 0.8 dp over its
         bed (DBC 1.65 dp), whose front stays within the band of Martin &
         Moyce and Koshizuka & Oka as dp shrinks (DBC leaves it by 8 % at
         a/dp = 36), a stream sliding over a free-slip bed keeps its speed
