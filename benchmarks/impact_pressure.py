@@ -61,8 +61,10 @@ def main(argv=None):
     ap.add_argument("--end", type=float, default=1.0)
     ap.add_argument("--wall", default=WALLS["wall_pressure"], choices=["dynamic", "adami", "mdbc"])
     ap.add_argument("--json", help="also write the figures to this JSON file")
+    ap.add_argument("--options", default="{}", help="JSON object of further SPHOptions, e.g. '{\"riemann\": true}'")
     a = ap.parse_args(argv)
-    opts = SPHOptions(**{**WALLS, "wall_pressure": a.wall})
+    extra = json.loads(a.options)
+    opts = SPHOptions(**{**WALLS, "wall_pressure": a.wall, **extra})
     case = spheric_test2_case(dp=a.dp, end_time=a.end, options=opts)
     face = [[BOX_HI[0], P_Y, z] for z in P_FACE.values()]
     sensors = [PressureSensors(name=f"face_{m}", points=face, normal=[1.0, 0.0, 0.0], interval=0.001, method=m)
@@ -75,8 +77,10 @@ def main(argv=None):
         lin = np.loadtxt(Path(tmp) / "pressure_face_linear.csv", delimiter=",", skiprows=1)
         hyd = np.loadtxt(Path(tmp) / "pressure_face_hydrostatic.csv", delimiter=",", skiprows=1)
     t = probes[:, 0]
-    results = {"dp": a.dp, "wall": a.wall, "particles": case.n_particles, "end": a.end, "sensors": {}}
-    print(f"SPHERIC Test 2, dp = {a.dp} m ({case.n_particles:,} particles), wall_pressure = {a.wall}, to {a.end} s")
+    results = {"dp": a.dp, "wall": a.wall, "options": extra, "particles": case.n_particles, "end": a.end,
+               "sensors": {}}
+    print(f"SPHERIC Test 2, dp = {a.dp} m ({case.n_particles:,} particles), wall_pressure = {a.wall} {extra or ''}, "
+          f"to {a.end} s")
     print(f"{'':4} {'measured by':14} {'peak t':>7} {'dt':>7} {'peak p':>8} {'rel':>7} | {'raw dt':>7} {'raw rel':>8}"
           f" | {'min/rho g H0':>12} {'ringing':>8}")
     for k, name in enumerate(P_FACE):
