@@ -93,7 +93,7 @@ class SPHOptions:
         the ghost node too.
 
         Adami is the default because it was measured the best or equal best
-        of the three where they differ, at DBC's cost (mDBC: 37 % more on
+        of the three where they differ, at DBC's cost (mDBC: 38 % more on
         a 3D tank of 87 % walls): a dam-break surge floats 0.8 dp over its
         bed (DBC 1.65 dp), whose front stays within the band of Martin &
         Moyce and Koshizuka & Oka as dp shrinks (DBC leaves it by 8 % at
@@ -109,9 +109,9 @@ class SPHOptions:
     delta : float
         Density diffusion coefficient (0.1 in DualSPHysics).
     riemann : bool
-        Take each pair's pressure and velocity in the momentum and
-        continuity equations from the linearised Riemann solution between
-        the two particles, with the low-dissipation limiter of Zhang, Hu &
+        Take each pair of fluid particles' pressure and velocity in the
+        momentum and continuity equations from the linearised Riemann
+        solution between the two, with the low-dissipation limiter of Zhang, Hu &
         Adams (2017) (`shoal.physics.riemann`): a dissipation that acts on
         compression and on acoustic pressure jumps, in place of artificial
         viscosity and density diffusion (use it with ``alpha = 0`` or

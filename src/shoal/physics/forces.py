@@ -12,8 +12,7 @@ fluid pushes b with the opposite force,
     F_b = -sum_a m_a dv_a/dt |_b
         = m_b sum_a [ -m_a (p_a/rho_a^2 + p_b/rho_b^2 + R_ab + Pi_ab) grad_b W_ab + lam_ba (u_b - v_a) ],
 
-(with ``riemann = true`` the pressure factor is the pair's 2 p*/(rho_a rho_b), `shoal.physics.riemann`,
-from the boundary particle's own velocity), which this pass evaluates per boundary particle, from its fluid neighbours, with the same terms as the
+which this pass evaluates per boundary particle, from its fluid neighbours, with the same terms as the
 rates: summed over a body's particles it is the hydrodynamic force on the body (DualSPHysics's
 ComputeForces does the same sum over a body's boundary particles), and over every wall it balances the
 fluid's momentum budget exactly. [N]; 2D: per metre of width [N/m]. Fluid and repulsive
@@ -22,7 +21,6 @@ fluid's momentum budget exactly. [N]; 2D: per metre of width [N/m]. Fluid and re
 
 from .rates import make_store, make_tensile
 from .reciprocals import make_reciprocals
-from .riemann import make_riemann
 from .spec import FIXED, FLUID, MOVING
 
 
@@ -38,18 +36,15 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
     reciprocals = make_reciprocals(jit, spec)
-    riemann = spec.riemann
-    riemann_pair = make_riemann(jit, spec)
 
     @jit
     def force_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         fx, fy, fz = acc
-        ubx, uby, ubz, rhob, pr2b, tb, wbx, wby, wbz = own
+        ubx, uby, ubz, rhob, pr2b, tb = own
         vel, rho, pr2, kind = data
         if kind[j] != FLUID:
             return acc
-        r = r2 ** F(0.5)
-        q = r * P.inv_h
+        q = r2 ** F(0.5) * P.inv_h
         fr = grad_factor(q, P)
         vjx = vel[j, 0]
         vjz = vel[j, dim - 1]
@@ -57,16 +52,10 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
         ux, uy, uz = ubx - vjx, uby - vjy, ubz - vjz  # u_b - v_a
         vdotr = ux * dx + uy * dy + uz * dz            # (u_b - v_a) . (r_b - r_a) = v_ab . r_ab
         pr2a = pr2[j]
-        rhoa = rho[j]
-        inv_a, inv_s, _ = reciprocals(r2, P.eta2, rhoa, rhob)
-        if riemann:
-            # the closing speed from the wall's own velocity, as the rates take it
-            wdotr = (wbx - vjx) * dx + (wby - vjy) * dy + (wbz - vjz) * dz
-            prs, _ = riemann_pair(pr2a * rhoa * rhoa, pr2b * rhob * rhob, rhoa, rhob, wdotr, r, zero, inv_s, P)
-        else:
-            prs = pr2a + pr2b
+        prs = pr2a + pr2b
         if tensile:
             prs += tensile_pair(q, tensile_coef(pr2a), tb, P)
+        inv_a, inv_s, _ = reciprocals(r2, P.eta2, rho[j], rhob)
         pi_ab, lam = viscous(vdotr, r2, fr, P.mass_f, inv_a, inv_s, P)
         pi_ab *= P.visc_bound
         lam *= P.visc_bound
@@ -90,11 +79,8 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
         uby = u[i, 1] if dim == 3 else zero
         pr2b = pr2[i]
         tb = tensile_coef(pr2b)
-        wbx = vel[i, 0]
-        wbz = vel[i, dim - 1]
-        wby = vel[i, 1] if dim == 3 else zero
-        fx, fy, fz = gather(i, (ubx, uby, ubz, rho[i], pr2b, tb, wbx, wby, wbz), (zero, zero, zero), pos, cell,
-                            cell_start, gdims, (vel, rho, pr2, kind), P)
+        fx, fy, fz = gather(i, (ubx, uby, ubz, rho[i], pr2b, tb), (zero, zero, zero), pos, cell, cell_start, gdims,
+                            (vel, rho, pr2, kind), P)
         store(force, i, P.mass_b, fx, fy, fz)
 
     return particle_wall_force

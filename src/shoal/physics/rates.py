@@ -172,11 +172,13 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 vdotr_v = wx * dx + wy * dy + wz * dz
         inv_a, inv_s, inv_rhoj = reciprocals(r2, P.eta2, rhoi, rhoj)
         # continuity, with density diffusion between fluid particles only; momentum's pressure factor
+        prs, cont = pr2i + pr2j, vdotr
         if riemann:
-            prs, cont = riemann_pair(pr2i * rhoi * rhoi, pr2j * rhoj * rhoj, rhoi, rhoj, vdotr, r,
-                                     P.gx * dx + P.gy * dy + P.gz * dz, inv_s, P)
-        else:
-            prs, cont = pr2i + pr2j, vdotr
+            # between fluid particles only (a select, not a branch, as above)
+            prs_r, cont_r = riemann_pair(pr2i * rhoi * rhoi, pr2j * rhoj * rhoj, rhoi, rhoj, vdotr, r,
+                                         P.gx * dx + P.gy * dy + P.gz * dz, inv_s, P)
+            prs += fl * (prs_r - prs)
+            cont += fl * (cont_r - cont)
         dr += mj * cont * fr + fl * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
         if tensile:
             prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
