@@ -112,3 +112,60 @@ def test_dam_break_front_runs_frictionless():
     sel = (T >= 0.8) & (T <= 3.0)
     assert np.all(Z[sel] < 1 + 2 * T[sel])
     assert model.n_fluid == n0
+
+
+def _bed_model(velocity):
+    """Still water 8 dp deep over a bed (2D, Adami walls, Riemann terms, wall normals from the
+    geometry), every fluid particle given `velocity` (u, w)."""
+    from shoal.cases import still_water_2d
+
+    case = still_water_2d(dp=0.02, depth=0.16, length=0.4,
+                          options=SPHOptions(precision="float64", riemann=True, alpha=0.0, density_diffusion="none"))
+    model = build_model(case)
+    fluid = model.kind == 0
+    model.vel[fluid, 0], model.vel[fluid, 1] = velocity
+    model.sort()
+    return model
+
+
+def _rates(model, normals=True):
+    saved = model.ghost_of
+    if not normals:
+        model.ghost_of = None  # the plain terms at the walls
+    model.compute_rates()
+    model.ghost_of = saved
+    n = model.n
+    return model.ace[:n].copy(), model.kind[:n] == 0
+
+
+def test_wall_term_leaves_a_stream_along_the_wall_alone():
+    """The wall's Riemann problem is taken along its normal: a stream sliding along the bed closes in
+    on no wall particle, and the fluid's accelerations are exactly those without the wall term (the
+    pair form along the pair line gave such a stream a bed friction: `shoal.physics.riemann`), away
+    from the tank's end walls, which it runs into and which push it back."""
+    model = _bed_model((0.7, 0.0))
+    assert model.ghost_of is not None
+    with_term, fluid = _rates(model)
+    plain, _ = _rates(model, normals=False)
+    x = model.pos[:model.n][fluid, 0]
+    middle = (x > 4 * model.h) & (x < 0.4 - 4 * model.h)
+    ends = x > 0.4 - 1.5 * model.h  # within reach of the end wall the stream runs into
+    assert middle.sum() >= 10
+    assert np.array_equal(with_term[fluid][middle], plain[fluid][middle])
+    assert np.all(with_term[fluid][ends, 0] < plain[fluid][ends, 0])  # pushed back by the end wall
+
+
+def test_wall_term_pushes_back_fluid_moving_into_the_wall():
+    """Fluid moving down onto the bed at 0.5 m/s: the wall term adds an upward acceleration to the
+    particles within the kernel's reach of the bed, and to no other."""
+    model = _bed_model((0.0, -0.5))
+    with_term, fluid = _rates(model)
+    plain, _ = _rates(model, normals=False)
+    extra = (with_term - plain)[fluid]
+    x, z = model.pos[:model.n][fluid, 0], model.pos[:model.n][fluid, 1]
+    middle = (x > 4 * model.h) & (x < 0.4 - 4 * model.h)
+    near = middle & (z < 2 * model.h - model.dp / 2)  # the bed's first particles lie dp/2 below z = 0
+    far = middle & (z > 2 * model.h)
+    assert near.any() and far.any()
+    assert np.all(extra[near, 1] > 0)
+    assert np.all(extra[far] == 0)

@@ -425,7 +425,8 @@ class Case(BaseModel):
         # `_generation_box` adds): for the wall normals nothing lies beyond them
         shapes_box = (lo + self.dp, hi - self.dp) if self.domain is None else None
         p = generate(self.dim, self.dp, (lo, hi), solids, fluids, support, self.lattice_origin,
-                     normals=self.options.wall_pressure == "mdbc", normals_box=shapes_box)
+                     normals=self.options.wall_pressure == "mdbc" or self.options.riemann,
+                     normals_box=shapes_box)
         if self.planes:
             behind = np.zeros(len(p), bool)
             for pl in self.planes:

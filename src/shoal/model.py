@@ -241,6 +241,7 @@ class Model:
         self.on_escape = None  # on_escape(model, start, stop): rows start..stop just left the domain
         self._init_motions(positions[:, cols], kinds, motions, motion_of)
         self._init_wall_normals(kinds, wall_normals)
+        self._no_ghosts = b.asarray(np.zeros((1, dim), F))  # the rates' ghost table when there is none
         if self.spec.wall_pressure == ADAMI and self.motion_of is None:
             # the Adami wall-pressure kernel reads a motion table; without moving walls, one unused row
             # (not a per-particle array: a checkpoint saves only arrays of n_total rows, each once)
@@ -275,7 +276,7 @@ class Model:
         indexed by particle id less `ghost_id0`, the first boundary particle's id (the generator puts
         the fluid first, so the table holds the walls only)."""
         self.ghost_of, self.ghost_id0, self.ghost_reach = None, 0, 0.0
-        if self.spec.wall_pressure != MDBC:
+        if self.spec.wall_pressure != MDBC and not (self.spec.riemann and wall_normals is not None):
             return
         dynamic = (kinds == FIXED) | (kinds == MOVING)
         if wall_normals is None:
@@ -508,9 +509,17 @@ class Model:
         if self.spec.no_slip and self.spec.wall_pressure != MDBC:
             b.timed(b.wall_velocity, n, (self.pos, self.vel, self.kind, self.grid.cell, self.grid.cell_start,
                                          self.grid.gdims_arr, P, self.vwall))
+        ghosts, gid0 = self._ghost_args()
         b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                              self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
-                             self.vmax, self.tau, self.planes, self.ptable, self.vwall))
+                             self.vmax, self.tau, self.planes, self.ptable, self.vwall, self.idp, ghosts, gid0))
+
+    def _ghost_args(self):
+        """(ghost table, first id) for the rates and wall forces: with ``riemann`` and wall normals the
+        fluid-wall pairs read the walls' normals from it; -1 when there is no table."""
+        if self.ghost_of is None:
+            return self._no_ghosts, -1
+        return self.ghost_of, int(self.ghost_id0)
 
     def time_step_limit(self):
         """Variable time step of Monaghan & Kos (1999), as in DualSPHysics:
@@ -661,8 +670,10 @@ class Model:
         if getattr(self, "_force", None) is None or self._force.shape[0] < n:
             self._force = b.zeros((max(n, 1), self.dim), self.dtype)
         b.timed(b.pr2, n, (self.rho, self.pr2, P))
+        ghosts, gid0 = self._ghost_args()
         b.timed(b.wall_force, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
-                                  self.grid.cell_start, self.grid.gdims_arr, P, self.vwall, self._force))
+                                  self.grid.cell_start, self.grid.gdims_arr, P, self.vwall, self.idp, ghosts, gid0,
+                                  self._force))
         f = self.host(self._force, 0, n).astype(np.float64)
         out = np.zeros((n, 3))
         out[:, [0, 1, 2] if self.dim == 3 else [0, 2]] = f

@@ -21,12 +21,14 @@ fluid's momentum budget exactly. [N]; 2D: per metre of width [N/m]. Fluid and re
 
 from .rates import make_store, make_tensile
 from .reciprocals import make_reciprocals
+from .riemann import make_riemann
 from .spec import FIXED, FLUID, MOVING
 
 
 def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
     """Return ``particle_wall_force(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr,
-    vwall, force)`` writing F_b of boundary particle i into ``force[i]`` (internal components)."""
+    vwall, idp, ghosts, gid0, force)`` writing F_b of boundary particle i into ``force[i]`` (internal
+    components); `ghosts`, `gid0` as for the rates (`shoal.physics.rates`)."""
     F = spec.float_type
     dim = spec.dim
     zero = F(0.0)
@@ -36,12 +38,15 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
     reciprocals = make_reciprocals(jit, spec)
+    riemann = spec.riemann
+    _, wall_jump = make_riemann(jit, spec)
+    one = F(1.0)
 
     @jit
     def force_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         fx, fy, fz = acc
-        ubx, uby, ubz, rhob, pr2b, tb = own
-        vel, rho, pr2, kind = data
+        ubx, uby, ubz, rhob, pr2b, tb, wbx, wby, wbz, row = own
+        vel, rho, pr2, kind, ghosts = data
         if kind[j] != FLUID:
             return acc
         q = r2 ** F(0.5) * P.inv_h
@@ -53,6 +58,11 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
         vdotr = ux * dx + uy * dy + uz * dz            # (u_b - v_a) . (r_b - r_a) = v_ab . r_ab
         pr2a = pr2[j]
         prs = pr2a + pr2b
+        if riemann and row >= 0:
+            # the Riemann dissipation along the wall's normal, as the rates add it (`shoal.physics.riemann`)
+            rhoa = rho[j]
+            dp = wall_jump(vjx - wbx, vjy - wby, vjz - wbz, ghosts, row, one, rhoa, rhob, P)
+            prs += F(2.0) * dp / (rhoa * rhob)
         if tensile:
             prs += tensile_pair(q, tensile_coef(pr2a), tb, P)
         inv_a, inv_s, _ = reciprocals(r2, P.eta2, rho[j], rhob)
@@ -65,7 +75,8 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
     gather = make_gather(jit, spec, force_pair)
 
     @jit
-    def particle_wall_force(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, vwall, force):
+    def particle_wall_force(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, vwall, idp, ghosts, gid0,
+                            force):
         P = unpack(Parr)
         for d in range(dim):
             force[i, d] = zero
@@ -79,8 +90,12 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
         uby = u[i, 1] if dim == 3 else zero
         pr2b = pr2[i]
         tb = tensile_coef(pr2b)
-        fx, fy, fz = gather(i, (ubx, uby, ubz, rho[i], pr2b, tb), (zero, zero, zero), pos, cell, cell_start, gdims,
-                            (vel, rho, pr2, kind), P)
+        row = idp[i] - gid0 if gid0 >= 0 else -1
+        wbx = vel[i, 0]
+        wbz = vel[i, dim - 1]
+        wby = vel[i, 1] if dim == 3 else zero
+        fx, fy, fz = gather(i, (ubx, uby, ubz, rho[i], pr2b, tb, wbx, wby, wbz, row), (zero, zero, zero), pos, cell,
+                            cell_start, gdims, (vel, rho, pr2, kind, ghosts), P)
         store(force, i, P.mass_b, fx, fy, fz)
 
     return particle_wall_force

@@ -76,7 +76,12 @@ def make_store(jit, spec):
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack, plane_accel=None,
                compact=False):
     """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
-    grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable, vwall)``, which writes particle i's rates.
+    grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable, vwall, idp, ghosts, gid0)``, which writes
+    particle i's rates.
+
+    `ghosts` is the walls' ghost-vector table by particle id less `gid0` (`Model.ghost_of`); with
+    ``riemann`` and ``gid0 >= 0`` a fluid-wall pair adds the Riemann dissipation along the wall's
+    normal (`shoal.physics.riemann`); read only then.
 
     `vwall` holds the boundary particles' no-slip velocities (`no_slip`; read
     only when the scheme has ``no_slip``).
@@ -105,7 +110,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     no_slip = spec.no_slip
     wall_pressure = spec.wall_pressure != 0
     riemann = spec.riemann
-    riemann_pair = make_riemann(jit, spec)
+    riemann_pair, wall_jump = make_riemann(jit, spec)
     two, halfq = F(2.0), F(0.5)
     tensile_coef, tensile_pair = make_tensile(jit, spec, w)
     store = make_store(jit, spec)
@@ -115,7 +120,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     def fluid_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         ax, ay, az, dr, xx, xy, xz, vmax = acc
         vix, viy, viz, rhoi, pr2i, ti, t0, t1, t2, t3, t4, t5 = own
-        vel, rho, pr2, kind, tau, vwall = data
+        vel, rho, pr2, kind, tau, vwall, idp, ghosts, gid0 = data
         r = r2 ** F(0.5)
         q = r * P.inv_h
         fr = grad_factor(q, P)
@@ -179,6 +184,10 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                                          P.gx * dx + P.gy * dy + P.gz * dz, inv_s, P)
             prs += fl * (prs_r - prs)
             cont += fl * (cont_r - cont)
+            if gid0 >= 0 and not is_fluid:
+                # a wall: the closing speed along its normal (its ghost vector's direction)
+                wall_dp = wall_jump(vix - vjx, viy - vjy, viz - vjz, ghosts, idp[j] - gid0, sy, rhoi, rhoj, P)
+                prs += two * wall_dp * inv_rhoj / rhoi
         dr += mj * cont * fr + fl * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
         if tensile:
             prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
@@ -211,7 +220,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     @jit
     def bound_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         vix, viy, viz = own
-        vel, rho, pr2, kind, tau, vwall = data
+        vel, rho, pr2, kind, tau, vwall, idp, ghosts, gid0 = data
         # with fluid neighbours only (a branch, unlike `fluid_pair`: most of a wall particle's
         # neighbours are wall particles, so it is well predicted and skips their kernel gradients)
         if kind[j] != FLUID:
@@ -236,13 +245,13 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
 
     @jit
     def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax,
-                       tau, planes, ptable, vwall):
+                       tau, planes, ptable, vwall, idp, ghosts, gid0):
         P = unpack(Parr)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         vix = vel[i, 0]
         viz = vel[i, dim - 1]
         viy = vel[i, 1] if dim == 3 else zero
-        data = (vel, rho, pr2, kind, tau, vwall)
+        data = (vel, rho, pr2, kind, tau, vwall, idp, ghosts, gid0)
         if kind[i] == FLUID:
             pr2i = pr2[i]
             ti = tensile_coef(pr2i)

@@ -30,14 +30,19 @@ Fourtakas et al. (2019) remove it from density diffusion: Zhang et al.'s term di
 whole jump, and in still water the one-sided support at the free surface then raises the
 surface particles' density step after step. Without gravity the term is theirs.
 
-Applied between fluid particles only; a fluid-wall pair keeps the plain terms, the wall's
-pressure coming from its `wall_pressure` treatment (so the force on the walls,
-`shoal.physics.forces`, is unchanged). Along the line of a fluid-wall pair the limiter sees a
-stream sliding over the wall's particle lattice close in on the particles ahead and open from
-those behind, and its one-sided dissipation then acts as a bed friction: measured
-(`benchmarks/bed_drag.py`, 0.7 m/s over an Adami bed at dp = d0/10), applied to wall pairs too it
-took 32.7 % of the stream's speed in 2 s, between fluid particles only 0.8 % (Adami walls
-without it: 0.7 %). Zhang et al. run the scheme without artificial viscosity or density diffusion
+The pair form is applied between fluid particles only. Along the line of a fluid-wall pair the
+limiter sees a stream sliding over the wall's particle lattice close in on the particles ahead and
+open from those behind, and its one-sided dissipation then acts as a bed friction: measured
+(`benchmarks/bed_drag.py`, 0.7 m/s over an Adami bed at dp = d0/10), applied to wall pairs it took
+32.7 % of the stream's speed in 2 s, between fluid particles only 0.8 % (Adami walls without it:
+0.7 %). Against a wall the problem is instead the fluid particle's and its mirror image's along the
+wall's normal n (into the fluid; the ghost vectors of `shoal.geometry.normals`, which the generator
+computes for ``riemann``), as in Zhang et al.'s wall condition: the closing speed is
+U = -2 (v_a - u_w) . n, and the pair's plain pressure term (the wall's pressure from its
+`wall_pressure` treatment) gets the dissipative part beta rho_ab U / 2 (`wall_jump`), zero for a
+stream sliding along the wall. The force on the walls (`shoal.physics.forces`) adds the same, so it
+stays the reaction of the fluid's momentum change. A model built without wall normals keeps the
+plain terms at the walls. Zhang et al. run the scheme without artificial viscosity or density diffusion
 (``alpha = 0`` or laminar viscosity, ``density_diffusion = "none"``).
 """
 
@@ -46,7 +51,12 @@ ETA = 3.0
 
 
 def make_riemann(jit, spec):
-    """Return ``riemann_pair(pa, pb, rhoa, rhob, vdotr, r, gdotr, inv_s, P) -> (prs, cont)``.
+    """Return ``(riemann_pair, wall_jump)``:
+    ``riemann_pair(pa, pb, rhoa, rhob, vdotr, r, gdotr, inv_s, P) -> (prs, cont)`` of a fluid pair and
+    ``wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P) -> dp``, the dissipative pressure of a
+    fluid-wall pair along the wall's normal (u = v_a - u_w; ghosts[row] the wall's ghost vector).
+
+    For ``riemann_pair``:
 
     Inputs: the pair's pressures and densities, vdotr = (v_a - v_b) . (r_a - r_b), r = |r_ab|,
     gdotr = g . (r_a - r_b), inv_s = 1 / (rho_a + rho_b). Outputs: ``prs`` = 2 p* / (rho_a rho_b),
@@ -71,4 +81,22 @@ def make_riemann(jit, spec):
         cont = rhoa * inv_rhob * (vdotr - dp * r * two * inv_s / P.c0)
         return prs, cont
 
-    return riemann_pair
+    dim = spec.dim
+
+    @jit
+    def wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P):
+        """The dissipative pressure of a fluid particle's Riemann problem with a wall particle along
+        the wall's normal n (its ghost vector's direction, into the fluid): the closing speed is that
+        of the fluid and its mirror image, U = -2 (v_a - u_w) . n, and the pressure beta rho_ab U / 2
+        with beta = min(eta max(U, 0), c0), added to the pair's plain pressure."""
+        gx = ghosts[row, 0]
+        gz = ghosts[row, dim - 1]
+        gy = sy * ghosts[row, 1] if dim == 3 else zero
+        g2 = gx * gx + gy * gy + gz * gz
+        if g2 <= zero:
+            return zero
+        closing = -two * (ux * gx + uy * gy + uz * gz) / g2 ** F(0.5)
+        beta = min(eta * max(closing, zero), P.c0)
+        return F(0.25) * beta * closing * (rhoa + rhob)
+
+    return riemann_pair, wall_jump
