@@ -122,6 +122,7 @@ def test_halo_migration_and_rates(mpiexec):
     assert res["default_rates_rel_err"] < 1e-5, res
     assert res["sps_xsph_symplectic_rates_rel_err"] < 1e-5, res
     assert res["mdbc_rates_rel_err"] < 1e-5, res  # mDBC walls: halo as deep as their ghost nodes
+    assert res["riemann_rates_rel_err"] < 1e-5, res  # the Riemann wall term: the walls' normals by id
     assert res["default_dt_rel_err"] < 1e-6 and res["sps_xsph_symplectic_dt_rel_err"] < 1e-6, res
     assert res["migration_unique"] and res["migration_moved_on_one_rank"] and res["migration_owned_inside_slab"], res
     # trackers, max-z and run-up gauges over the cut: exactly the single-process values, on every rank, from

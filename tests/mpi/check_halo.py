@@ -193,10 +193,12 @@ compare("sps_xsph_symplectic", shoal.SPHOptions(turbulence="sps", xsph=0.5, inte
 # mDBC walls: a halo 4h deep at least (2.25h leaves 3e-3 of error here), and the end walls' ghost nodes
 # 6 dp off them: a tank long enough for two slabs of that width
 compare("mdbc", shoal.SPHOptions(wall_pressure="mdbc"), tank_length=2.5 * 0.146)
+# the Riemann terms with DBC walls (the narrow 2.25h halo): the wall term reads the walls' normals by id
+compare("riemann", shoal.SPHOptions(riemann=True, alpha=0.0, density_diffusion="none", wall_pressure="dynamic"))
 if rank == 0:
     print("RESULTS " + json.dumps(results))
     ok = (results["default_rates_rel_err"] < 1e-5 and results["sps_xsph_symplectic_rates_rel_err"] < 1e-5
-          and results["mdbc_rates_rel_err"] < 1e-5
+          and results["mdbc_rates_rel_err"] < 1e-5 and results["riemann_rates_rel_err"] < 1e-5
           and results["migration_unique"] and results["migration_moved_on_one_rank"]
           and results["migration_owned_inside_slab"] and results["default_fluid_near_cut"] > 0
           and results["default_dt_rel_err"] < 1e-6 and results["particle_probes_equal"]
