@@ -116,6 +116,10 @@ class SPHOptions:
         compression and on acoustic pressure jumps, in place of artificial
         viscosity and density diffusion (use it with ``alpha = 0`` or
         laminar viscosity and ``density_diffusion = "none"``, as they do).
+        Against a wall, the problem of the fluid particle and its mirror
+        image along the wall's normal (from the geometry, computed when the
+        particles are generated), which damps an impact's ringing and leaves
+        a flow along the wall alone.
     xsph : float
         XSPH velocity-correction coefficient epsilon (Monaghan 1989);
         0 disables it; 0.5 in the tidal-bore paper.
