@@ -8,8 +8,9 @@ Momentum with the symmetric pressure term, viscosity and gravity:
 (R_ij the Monaghan (2000) tensile correction when enabled, Pi_ij the
 artificial and lam_ij the laminar viscous term, see `viscosity`; both
 multiplied by `visco_bound_factor` when j is a boundary particle.)
-With ``riemann = true`` the pressures and velocities of each pair are replaced by the pair's
-Riemann solution (p*, v*) of Zhang, Hu & Adams (2017) (`shoal.physics.riemann`).
+With ``riemann = true`` the pressures and velocities of each pair of fluid particles are replaced by
+the pair's Riemann solution (p*, v*) of Zhang, Hu & Adams (2017), and a fluid-wall pair gets the
+dissipation of the Riemann problem along the wall's normal (`shoal.physics.riemann`).
 XSPH (Monaghan 1989): dx_i/dt = v_i + eps sum_j (m_j / rho_ij) v_ji W_ij.
 SPS turbulence (when on): + sum_j m_j (tau_i/rho_i^2 + tau_j/rho_j^2) . grad_i W_ij
 between fluid particles, tau from `turbulence` (Dalrymple & Rogers 2006).
