@@ -181,7 +181,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
         prs, cont = pr2i + pr2j, vdotr
         if riemann:
             # between fluid particles only (a select, not a branch, as above)
-            prs_r, cont_r = riemann_pair(pr2i * rhoi * rhoi, pr2j * rhoj * rhoj, rhoi, rhoj, vdotr, r,
+            prs_r, cont_r = riemann_pair(pr2i * rhoi * rhoi, pr2j * rhoj * rhoj, rhoi, inv_rhoj, vdotr, r,
                                          P.gx * dx + P.gy * dy + P.gz * dz, inv_s, P)
             prs += fl * (prs_r - prs)
             cont += fl * (cont_r - cont)

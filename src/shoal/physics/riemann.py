@@ -52,13 +52,14 @@ ETA = 3.0
 
 def make_riemann(jit, spec):
     """Return ``(riemann_pair, wall_jump)``:
-    ``riemann_pair(pa, pb, rhoa, rhob, vdotr, r, gdotr, inv_s, P) -> (prs, cont)`` of a fluid pair and
+    ``riemann_pair(pa, pb, rhoa, inv_rhob, vdotr, r, gdotr, inv_s, P) -> (prs, cont)`` of a fluid pair and
     ``wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P) -> dp``, the dissipative pressure of a
     fluid-wall pair along the wall's normal (u = v_a - u_w; ghosts[row] the wall's ghost vector).
 
     For ``riemann_pair``:
 
-    Inputs: the pair's pressures and densities, vdotr = (v_a - v_b) . (r_a - r_b), r = |r_ab|,
+    Inputs: the pair's pressures, rho_a and 1 / rho_b (which the pair loop already has), vdotr =
+    (v_a - v_b) . (r_a - r_b), r = |r_ab|,
     gdotr = g . (r_a - r_b), inv_s = 1 / (rho_a + rho_b). Outputs: ``prs`` = 2 p* / (rho_a rho_b),
     the pressure factor of the momentum term (in place of p_a/rho_a^2 + p_b/rho_b^2), and ``cont``
     = (rho_a / rho_b) (v_ab . r_ab - dp_ab r / (rho_ab c0)), the continuity term's factor (times
@@ -69,8 +70,7 @@ def make_riemann(jit, spec):
     eta = F(ETA)
 
     @jit
-    def riemann_pair(pa, pb, rhoa, rhob, vdotr, r, gdotr, inv_s, P):
-        inv_rhob = F(1.0) / rhob
+    def riemann_pair(pa, pb, rhoa, inv_rhob, vdotr, r, gdotr, inv_s, P):
         closing = -vdotr / r if r > zero else zero  # U_ab = (v_b - v_a) . e_ab
         beta = min(eta * max(closing, zero), P.c0)
         # rho_ab = (rho_a + rho_b) / 2 = 1 / (2 inv_s)
