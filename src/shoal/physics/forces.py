@@ -60,9 +60,13 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
         prs = pr2a + pr2b
         if riemann and row >= 0:
             # the Riemann dissipation along the wall's normal, as the rates add it (`shoal.physics.riemann`)
+            # (with the opposite sign: the force on the wall)
             rhoa = rho[j]
-            dp = wall_jump(vjx - wbx, vjy - wby, vjz - wbz, ghosts, row, one, rhoa, rhob, P)
-            prs += F(2.0) * dp / (rhoa * rhob)
+            dp, nx, ny, nz = wall_jump(vjx - wbx, vjy - wby, vjz - wbz, ghosts, row, one, rhoa, rhob, P)
+            c = P.mass_f * F(2.0) * dp / (rhoa * rhob) * fr * r2 ** F(0.5)
+            fx += c * nx
+            fy += c * ny
+            fz += c * nz
         if tensile:
             prs += tensile_pair(q, tensile_coef(pr2a), tb, P)
         inv_a, inv_s, _ = reciprocals(r2, P.eta2, rho[j], rhob)

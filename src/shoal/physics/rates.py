@@ -186,9 +186,14 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             prs += fl * (prs_r - prs)
             cont += fl * (cont_r - cont)
             if gid0 >= 0 and not is_fluid:
-                # a wall: the closing speed along its normal (its ghost vector's direction)
-                wall_dp = wall_jump(vix - vjx, viy - vjy, viz - vjz, ghosts, idp[j] - gid0, sy, rhoi, rhoj, P)
-                prs += two * wall_dp * inv_rhoj / rhoi
+                # a wall: the closing speed along its normal (its ghost vector's direction), and the
+                # dissipative pressure pushing along it with the weight |grad W| = -fr r
+                wall_dp, nx, ny, nz = wall_jump(vix - vjx, viy - vjy, viz - vjz, ghosts, idp[j] - gid0, sy, rhoi,
+                                                rhoj, P)
+                c = -two * mj * wall_dp * inv_rhoj / rhoi * fr * r
+                ax += c * nx
+                ay += c * ny
+                az += c * nz
         dr += mj * cont * fr + fl * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
         if tensile:
             prs += tensile_pair(q, ti, tensile_coef(pr2j), P)

@@ -38,10 +38,19 @@ open from those behind, and its one-sided dissipation then acts as a bed frictio
 0.7 %). Against a wall the problem is instead the fluid particle's and its mirror image's along the
 wall's normal n (into the fluid; the ghost vectors of `shoal.geometry.normals`, which the generator
 computes for ``riemann``), as in Zhang et al.'s wall condition: the closing speed is
-U = -2 (v_a - u_w) . n, and the pair's plain pressure term (the wall's pressure from its
-`wall_pressure` treatment) gets the dissipative part beta rho_ab U / 2 (`wall_jump`), zero for a
-stream sliding along the wall. The force on the walls (`shoal.physics.forces`) adds the same, so it
-stays the reaction of the fluid's momentum change. A model built without wall normals keeps the
+U = -2 (v_a - u_w) . n, and the dissipative pressure dp = beta rho_ab U / 2 (`wall_jump`), zero
+for a stream sliding along the wall, pushes along n, with the weight of the pair's kernel gradient:
+
+    d v_a / dt += 2 m_b dp / (rho_a rho_b) |grad_a W_ab| n,
+
+as SPHinXsys applies the wall's Riemann dissipation (its fluid integration's wall contact). Along
+the pair's line e_ab instead the push does work against the relative motion only where the pair
+closes in along e_ab too, which a wall particle at a convex edge (a diagonal normal) does not
+ensure: fluid falling down a face below the edge closes in along the edge's normal while it moves
+away from the edge particle, and the push along e_ab then sped it up (measured: SPHERIC Test 2 at
+dp = 0.05 m went unstable at t = 0.756 s by the box's upstream face). Along n the power is
+-dp U / 2 times a positive weight: never positive. The force on the walls
+(`shoal.physics.forces`) adds the same, so it stays the reaction of the fluid's momentum change. A model built without wall normals keeps the
 plain terms at the walls. Zhang et al. run the scheme without artificial viscosity or density diffusion
 (``alpha = 0`` or laminar viscosity, ``density_diffusion = "none"``).
 """
@@ -53,8 +62,9 @@ ETA = 3.0
 def make_riemann(jit, spec):
     """Return ``(riemann_pair, wall_jump)``:
     ``riemann_pair(pa, pb, rhoa, inv_rhob, vdotr, r, gdotr, inv_s, P) -> (prs, cont)`` of a fluid pair and
-    ``wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P) -> dp``, the dissipative pressure of a
-    fluid-wall pair along the wall's normal (u = v_a - u_w; ghosts[row] the wall's ghost vector).
+    ``wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P) -> (dp, nx, ny, nz)``, the dissipative
+    pressure of a fluid-wall pair and the wall's unit normal it pushes along (u = v_a - u_w;
+    ghosts[row] the wall's ghost vector; ny = 0 in 2D; dp = 0 and n = 0 for a wall without one).
 
     For ``riemann_pair``:
 
@@ -66,7 +76,7 @@ def make_riemann(jit, spec):
     m_b fr: ``m_b cont fr`` in place of m_b v_ab . r_ab fr).
     """
     F = spec.float_type
-    zero, two = F(0.0), F(2.0)
+    zero, one, two = F(0.0), F(1.0), F(2.0)
     eta = F(ETA)
 
     @jit
@@ -86,17 +96,19 @@ def make_riemann(jit, spec):
     @jit
     def wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P):
         """The dissipative pressure of a fluid particle's Riemann problem with a wall particle along
-        the wall's normal n (its ghost vector's direction, into the fluid): the closing speed is that
-        of the fluid and its mirror image, U = -2 (v_a - u_w) . n, and the pressure beta rho_ab U / 2
-        with beta = min(eta max(U, 0), c0), added to the pair's plain pressure."""
+        the wall's normal n (its ghost vector's direction, into the fluid), and n: the closing speed
+        is that of the fluid and its mirror image, U = -2 (v_a - u_w) . n, and the pressure
+        beta rho_ab U / 2 with beta = min(eta max(U, 0), c0), which pushes along n."""
         gx = ghosts[row, 0]
         gz = ghosts[row, dim - 1]
         gy = sy * ghosts[row, 1] if dim == 3 else zero
         g2 = gx * gx + gy * gy + gz * gz
         if g2 <= zero:
-            return zero
-        closing = -two * (ux * gx + uy * gy + uz * gz) / g2 ** F(0.5)
+            return zero, zero, zero, zero
+        inv_g = one / g2 ** F(0.5)
+        nx, ny, nz = gx * inv_g, gy * inv_g, gz * inv_g
+        closing = -two * (ux * nx + uy * ny + uz * nz)
         beta = min(eta * max(closing, zero), P.c0)
-        return F(0.25) * beta * closing * (rhoa + rhob)
+        return F(0.25) * beta * closing * (rhoa + rhob), nx, ny, nz
 
     return riemann_pair, wall_jump
