@@ -129,11 +129,11 @@ def _bed_model(velocity):
 
 
 def _rates(model, normals=True):
-    saved = model.ghost_of
+    saved = model.wall_normal_of
     if not normals:
-        model.ghost_of = None  # the plain terms at the walls
+        model.wall_normal_of = None  # the plain terms at the walls
     model.compute_rates()
-    model.ghost_of = saved
+    model.wall_normal_of = saved
     n = model.n
     return model.ace[:n].copy(), model.kind[:n] == 0
 
@@ -144,7 +144,7 @@ def test_wall_term_leaves_a_stream_along_the_wall_alone():
     pair form along the pair line gave such a stream a bed friction: `shoal.physics.riemann`), away
     from the tank's end walls, which it runs into and which push it back."""
     model = _bed_model((0.7, 0.0))
-    assert model.ghost_of is not None
+    assert model.wall_normal_of is not None
     with_term, fluid = _rates(model)
     plain, _ = _rates(model, normals=False)
     x = model.pos[:model.n][fluid, 0]

@@ -274,8 +274,9 @@ class Model:
     def _init_wall_normals(self, kinds, wall_normals):
         """The mDBC ghost-vector table `ghost_of` ((n_ids - ghost_id0, dim), working precision),
         indexed by particle id less `ghost_id0`, the first boundary particle's id (the generator puts
-        the fluid first, so the table holds the walls only)."""
-        self.ghost_of, self.ghost_id0, self.ghost_reach = None, 0, 0.0
+        the fluid first, so the table holds the walls only); with ``riemann``, `wall_normal_of`, the
+        same rows as unit normals (zero where a wall particle has no ghost vector)."""
+        self.ghost_of, self.ghost_id0, self.ghost_reach, self.wall_normal_of = None, 0, 0.0, None
         if self.spec.wall_pressure != MDBC and not (self.spec.riemann and wall_normals is not None):
             return
         dynamic = (kinds == FIXED) | (kinds == MOVING)
@@ -294,7 +295,12 @@ class Model:
         table[:len(kinds) - id0] = np.where(dynamic[id0:, None], g[id0:][:, cols], 0.0)
         self.ghost_id0 = id0
         self.ghost_reach = float(np.sqrt((g[dynamic] ** 2).sum(axis=1)).max()) if len(ids) else 0.0
-        self.ghost_of = self.backend.asarray(table)
+        self.ghost_of = self.backend.asarray(table) if self.spec.wall_pressure == MDBC else None
+        if self.spec.riemann:
+            # the Riemann wall term's unit normals, so that a fluid-wall pair reads no square root
+            size = np.sqrt((table.astype(np.float64) ** 2).sum(axis=1, keepdims=True))
+            unit = np.divide(table, size, out=np.zeros_like(table, dtype=np.float64), where=size > 0)
+            self.wall_normal_of = self.backend.asarray(unit.astype(self.dtype))
 
     def sample(self, points, shepard=True):
         """SPH interpolation at fixed points (`shoal.probes.interpolate`).
@@ -434,8 +440,7 @@ class Model:
                   self.pr2, self.xsph, self.tau, self.vwall, *self.scratch.values(), *self.extra_arrays]
         if self.motion_of is not None:
             arrays += [self.pos_init, self.motion_of]
-        if self.ghost_of is not None:
-            arrays.append(self.ghost_of)
+        arrays += [a for a in (self.ghost_of, self.wall_normal_of) if a is not None]
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
 
     def new_array(self, like, owner=None):
@@ -515,11 +520,11 @@ class Model:
                              self.vmax, self.tau, self.planes, self.ptable, self.vwall, self.idp, ghosts, gid0))
 
     def _ghost_args(self):
-        """(ghost table, first id) for the rates and wall forces: with ``riemann`` and wall normals the
-        fluid-wall pairs read the walls' normals from it; -1 when there is no table."""
-        if self.ghost_of is None:
+        """(unit-normal table, first id) for the rates and wall forces: with ``riemann`` and wall normals
+        the fluid-wall pairs read the walls' normals from it; -1 when there is no table."""
+        if self.wall_normal_of is None:
             return self._no_ghosts, -1
-        return self.ghost_of, int(self.ghost_id0)
+        return self.wall_normal_of, int(self.ghost_id0)
 
     def time_step_limit(self):
         """Variable time step of Monaghan & Kos (1999), as in DualSPHysics:

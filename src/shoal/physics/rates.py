@@ -80,9 +80,9 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable, vwall, idp, ghosts, gid0)``, which writes
     particle i's rates.
 
-    `ghosts` is the walls' ghost-vector table by particle id less `gid0` (`Model.ghost_of`); with
-    ``riemann`` and ``gid0 >= 0`` a fluid-wall pair adds the Riemann dissipation along the wall's
-    normal (`shoal.physics.riemann`); read only then.
+    `ghosts` is the walls' unit-normal table by particle id less `gid0` (`Model.wall_normal_of`);
+    with ``riemann`` and ``gid0 >= 0`` a fluid-wall pair adds the Riemann dissipation along the
+    wall's normal (`shoal.physics.riemann`); read only then.
 
     `vwall` holds the boundary particles' no-slip velocities (`no_slip`; read
     only when the scheme has ``no_slip``).

@@ -36,10 +36,11 @@ open from those behind, and its one-sided dissipation then acts as a bed frictio
 (`benchmarks/bed_drag.py`, 0.7 m/s over an Adami bed at dp = d0/10), applied to wall pairs it took
 32.7 % of the stream's speed in 2 s, between fluid particles only 0.8 % (Adami walls without it:
 0.7 %). Against a wall the problem is instead the fluid particle's and its mirror image's along the
-wall's normal n (into the fluid; the ghost vectors of `shoal.geometry.normals`, which the generator
-computes for ``riemann``), as in Zhang et al.'s wall condition: the closing speed is
-U = -2 (v_a - u_w) . n, and the dissipative pressure dp = beta rho_ab U / 2 (`wall_jump`), zero
-for a stream sliding along the wall, pushes along n, with the weight of the pair's kernel gradient:
+wall's unit normal n (into the fluid; the ghost vectors of `shoal.geometry.normals`, which the
+generator computes for ``riemann``, normalised by the model: `Model.wall_normal_of`), as in Zhang
+et al.'s wall condition: the closing speed is U = -2 (v_a - u_w) . n, and the dissipative pressure
+dp = beta rho_ab U / 2 (`wall_jump`), zero for a stream sliding along the wall, pushes along n, with
+the weight of the pair's kernel gradient:
 
     d v_a / dt += 2 m_b dp / (rho_a rho_b) |grad_a W_ab| n,
 
@@ -62,9 +63,10 @@ ETA = 3.0
 def make_riemann(jit, spec):
     """Return ``(riemann_pair, wall_jump)``:
     ``riemann_pair(pa, pb, rhoa, inv_rhob, vdotr, r, gdotr, inv_s, P) -> (prs, cont)`` of a fluid pair and
-    ``wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P) -> (dp, nx, ny, nz)``, the dissipative
+    ``wall_jump(ux, uy, uz, normals, row, sy, rhoa, rhob, P) -> (dp, nx, ny, nz)``, the dissipative
     pressure of a fluid-wall pair and the wall's unit normal it pushes along (u = v_a - u_w;
-    ghosts[row] the wall's ghost vector; ny = 0 in 2D; dp = 0 and n = 0 for a wall without one).
+    normals[row] the wall's unit normal, `Model.wall_normal_of`; ny = 0 in 2D; a zero row, a wall
+    particle without a normal, gives dp = 0).
 
     For ``riemann_pair``:
 
@@ -76,7 +78,7 @@ def make_riemann(jit, spec):
     m_b fr: ``m_b cont fr`` in place of m_b v_ab . r_ab fr).
     """
     F = spec.float_type
-    zero, one, two = F(0.0), F(1.0), F(2.0)
+    zero, two = F(0.0), F(2.0)
     eta = F(ETA)
 
     @jit
@@ -94,19 +96,14 @@ def make_riemann(jit, spec):
     dim = spec.dim
 
     @jit
-    def wall_jump(ux, uy, uz, ghosts, row, sy, rhoa, rhob, P):
+    def wall_jump(ux, uy, uz, normals, row, sy, rhoa, rhob, P):
         """The dissipative pressure of a fluid particle's Riemann problem with a wall particle along
-        the wall's normal n (its ghost vector's direction, into the fluid), and n: the closing speed
-        is that of the fluid and its mirror image, U = -2 (v_a - u_w) . n, and the pressure
-        beta rho_ab U / 2 with beta = min(eta max(U, 0), c0), which pushes along n."""
-        gx = ghosts[row, 0]
-        gz = ghosts[row, dim - 1]
-        gy = sy * ghosts[row, 1] if dim == 3 else zero
-        g2 = gx * gx + gy * gy + gz * gz
-        if g2 <= zero:
-            return zero, zero, zero, zero
-        inv_g = one / g2 ** F(0.5)
-        nx, ny, nz = gx * inv_g, gy * inv_g, gz * inv_g
+        the wall's unit normal n (into the fluid), and n: the closing speed is that of the fluid
+        and its mirror image, U = -2 (v_a - u_w) . n, and the pressure beta rho_ab U / 2 with
+        beta = min(eta max(U, 0), c0), which pushes along n."""
+        nx = normals[row, 0]
+        nz = normals[row, dim - 1]
+        ny = sy * normals[row, 1] if dim == 3 else zero
         closing = -two * (ux * nx + uy * ny + uz * nz)
         beta = min(eta * max(closing, zero), P.c0)
         return F(0.25) * beta * closing * (rhoa + rhob), nx, ny, nz

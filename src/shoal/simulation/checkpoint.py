@@ -172,12 +172,12 @@ def particle_arrays(model):
     """The Model's per-particle arrays by attribute name: every array
     attribute with ``n_total`` rows (so an array added to the Model later is
     saved too); the integrator's arrays are `model.extra_arrays`. Not state, so not saved:
-    ``body_of`` (the solid of each particle id, from the case), ``ghost_of`` (the mDBC ghost
-    vectors, from the case's geometry) and ``_force`` (a force gauge's work array, refilled at
+    ``body_of`` (the solid of each particle id, from the case), ``ghost_of`` and ``wall_normal_of``
+    (the mDBC ghost vectors and the walls' unit normals, from the case's geometry) and ``_force`` (a force gauge's work array, refilled at
     each sample)."""
     out = {}
     for name, value in vars(model).items():
-        if name in ("scratch", "extra_arrays", "body_of", "ghost_of", "_force") or not _is_array(value):
+        if name in ("scratch", "extra_arrays", "body_of", "ghost_of", "wall_normal_of", "_force") or not _is_array(value):
             continue
         if value.shape[0] == model.n_total:
             out[name] = value
