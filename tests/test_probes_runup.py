@@ -179,6 +179,13 @@ def test_shoreline_follows_the_wet_tongue_not_a_film_or_a_splash():
     z, x, _ = read(g.model_copy(update={"landward": "-x"}))
     assert z == pytest.approx(0.3) and x == pytest.approx(0.095)
     assert all(np.isnan(read(g.model_copy(update={"x0": 0.05, "x1": 0.09}))))
+    # bridging dry stretches: 2 dry columns (7, 8) lie between the film and the splash
+    z, x, _ = read(g.model_copy(update={"min_depth": dp, "max_gap": 1.5 * dp}))
+    assert z == pytest.approx(0.06)  # one dry column bridged: not enough
+    z, x, _ = read(g.model_copy(update={"min_depth": dp, "max_gap": 2 * dp}))
+    assert z == pytest.approx(0.3) and x == pytest.approx(0.095)  # two: the splash joins the run
+    with pytest.raises(ValueError, match="max_gap"):
+        RunupGauge(name="r", x0=0.0, x1=0.1, interval=0.1, max_gap=dp)
 
 
 def test_shoreline_in_3d_is_the_highest_over_the_rows():

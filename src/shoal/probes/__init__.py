@@ -49,6 +49,8 @@ from pydantic import Field, model_validator
 
 from ..geometry.shapes import PositiveReal, Real, Spec, Vec3
 
+NonNegativeReal = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
+
 
 class PointProbes(Spec):
     """Velocity, pressure and density at fixed `points` [m] every `interval` s,
@@ -153,7 +155,15 @@ class RunupGauge(Spec):
     than `min_depth`, does not count). zmax is then the bed's elevation
     there, its lowest particle centre minus dp/2, x the most landward
     particle of that column and y the column's centre; in 3D the highest
-    shoreline over the y columns (`shoal.probes.shoreline`)."""
+    shoreline over the y columns (`shoal.probes.shoreline`).
+
+    With `max_gap` [m] the run goes on across stretches of dry columns up
+    to `max_gap` wide: a film thinner than one particle is represented by
+    particles spaced more than dp apart along the bed, and with `max_gap`
+    the kernel support 2h (and `min_depth` dp: any particle) the gauge
+    follows the tip of the water that still interacts with the body, as
+    SPH run-up studies read the foremost particle of the tongue, without
+    counting a splash that has left it."""
 
     type: Literal["runup"] = "runup"
     name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")]
@@ -163,12 +173,16 @@ class RunupGauge(Spec):
     band: PositiveReal | None = None
     landward: Literal["+x", "-x"] = "+x"
     min_depth: PositiveReal | None = None
+    max_gap: NonNegativeReal = 0.0
     interval: PositiveReal
 
     @model_validator(mode="after")
     def _range(self):
         if not self.x1 > self.x0:
             raise ValueError(f"x1 = {self.x1} must be beyond x0 = {self.x0}")
+        if self.max_gap > 0 and self.min_depth is None:
+            raise ValueError(f"max_gap = {self.max_gap} needs min_depth (it bridges dry columns of the wet "
+                             "shoreline)")
         return self
 
 
@@ -576,8 +590,9 @@ def shoreline_columns(positions, kinds, dim, spec, dp, ylim):
 def shoreline(counts, zmin, xland, dim, spec, dp, ylim):
     """(zmax, x, y) [m] of a `RunupGauge` with `min_depth` from its columns (`shoreline_columns`, summed
     over the ranks): in each row of columns, the landward end of the unbroken run of wet columns (layer
-    N dp**dim / dp**(dim - 1) >= min_depth) that starts at the first wet column on the seaward side; the
-    highest over the rows; NaNs when no column is wet."""
+    N dp**dim / dp**(dim - 1) >= min_depth) that starts at the first wet column on the seaward side,
+    bridging dry stretches of up to floor(max_gap / dp) columns; the highest over the rows; NaNs when
+    no column is wet."""
     nan = float("nan")
     wet = counts * dp >= spec.min_depth
     if spec.landward == "-x":
@@ -587,9 +602,13 @@ def shoreline(counts, zmin, xland, dim, spec, dp, ylim):
         cols = np.flatnonzero(wet[r])
         if not len(cols):
             continue
+        # the unbroken run, across up to `skip` dry columns
+        skip = int(np.floor(spec.max_gap / dp + 1e-9))
         k = cols[0]
-        while k + 1 < wet.shape[1] and wet[r, k + 1]:
-            k += 1
+        for j in cols[1:]:
+            if j - k - 1 > skip:
+                break
+            k = j
         z = float(zmin[r, k]) - 0.5 * dp
         if np.isnan(best[0]) or z > best[0]:
             x = float(xland[r, k]) * (1.0 if spec.landward == "+x" else -1.0)
