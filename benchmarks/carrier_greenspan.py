@@ -5,13 +5,14 @@ d there) to above the run-up; the still-water shoreline is at x = d cot. The pad
 standing wave's velocity at its face and the fluid starts from the wave's state at t = 0: a flat
 surface, the hydrostatic density, the velocity field of the solution
 (`shoal.analysis.beach_standing_wave`), so there is no start-up transient. Over `--periods` periods the
-wet shoreline (the landward end of the unbroken water layer at least one spacing thick, a `runup`
-gauge with `min_depth = dp`) is compared with the theory: it rises and falls between +A and -A about
+shoreline (the tip of the water that still interacts with the body: a `runup` gauge with
+`min_depth = dp` and `max_gap` the kernel support 2h), read from its still-water reading at t = 0 as a
+laboratory gauge is zeroed, is compared with the theory: it rises and falls between +A and -A about
 the still level, which the nonlinear solution of Carrier & Greenspan keeps below breaking (breaking
 parameter epsilon = A omega^2 / (g s^2) < 1). A wave gauge checks the wave the paddle
-keeps up against A J0(sigma) sin(omega t) at the surface's antinode offshore.
+keeps up against A J0(sigma) sin(omega t) offshore.
 
-    python benchmarks/carrier_greenspan.py --cot 10 --ddp 20 --breaking 0.5
+    python benchmarks/carrier_greenspan.py --cot 10 --ddp 20 --breaking 0.5 --sigma 3
 """
 
 from __future__ import annotations
@@ -52,12 +53,18 @@ def flume(d, cot, dp, wave, options, end_time, folder):
     solids = [Solid(name="paddle", shape=Box(lo=(-4 * dp, 0.0, 0.0), hi=(0.0, 0.0, top)), motion="paddle"),
               Solid(name="beach", shape=Slope(x0=0.0, z0=0.0, gradient=s)),
               Solid(name="flume", shape=Tank(lo=(x_back, 0.0, 0.0), hi=(x_end, 0.0, top)))]
-    # an antinode of the surface, J0's first extremum sigma = 3.83 (X = 0.5 L with sigma_L = 5.4)
-    gauges = {"antinode": (3.8317 / (2 * wave.omega)) ** 2 * 9.81 * s}
+    # offshore, where the surface moves: J0's first extremum sigma = 3.83 when the paddle is beyond it
+    # (X = 0.5 L with sigma_L = 5.4), else halfway to the paddle in sigma (X = L / 4)
+    sigma_L = float(wave.sigma(shore))
+    sigma_g = 3.8317 if sigma_L > 4.3 else 0.5 * sigma_L
+    gauges = {"offshore": (sigma_g / (2 * wave.omega)) ** 2 * wave.g * s}
     interval = T / 200
     probes = [WaveGauge(name=n, x=shore - X, z0=0.0, z1=top, interval=interval) for n, X in gauges.items()]
     lo = shore - 3 * wave.amplitude * cot
-    probes += [RunupGauge(name="wet", x0=lo, x1=x_end, min_depth=dp, interval=interval)]
+    # the tip of the water that still interacts with the body: any particle (min_depth = dp), dry
+    # stretches up to the kernel support 2h bridged
+    support = 2 * options.coef_h * math.sqrt(2) * dp
+    probes += [RunupGauge(name="tip", x0=lo, x1=x_end, min_depth=dp, max_gap=support, interval=interval)]
     case = Case(name="carrier-greenspan", dim=2, dp=dp, end_time=end_time, fluid=Fluid(depth=d, surface_level=d),
                 options=options, solids=solids, fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(x_end, 0, d)))],
                 motions=[TimeSeriesMotion(name="paddle", file=str(path))], probes=probes,
@@ -96,7 +103,7 @@ def main(argv=None):
     ap.add_argument("--cot", type=float, default=10.0, help="beach slope 1:cot")
     ap.add_argument("--ddp", type=float, default=20.0, help="d / dp")
     ap.add_argument("--breaking", type=float, default=0.5, help="epsilon = A omega^2 / (g s^2), < 1")
-    ap.add_argument("--sigma", type=float, default=5.4,
+    ap.add_argument("--sigma", type=float, default=3.0,
                     help="sigma_L at the paddle (k d = sigma_L / (2 cot); away from 3.83 and 7.02)")
     ap.add_argument("--periods", type=float, default=3.0)
     ap.add_argument("--options", default="{}", help="JSON of SPHOptions over the wave flumes' scheme")
@@ -129,6 +136,7 @@ def main(argv=None):
         gauge_recs = {r.spec.name: np.array(r.rows, float) for r in recs[:-1]}
     t, zs = shore_rec[:, 0], shore_rec[:, 1] - d
     z0 = zs[0]
+    zs = zs - z0  # from the gauge's still-water reading
     per = periods_excursion(t, zs, T)
     A = wave.amplitude
     ups = [hi / A for hi, _ in per]
@@ -140,8 +148,10 @@ def main(argv=None):
     res = dict(cot=a.cot, ddp=a.ddp, d=d, breaking=wave.breaking, sigma_L=a.sigma, amplitude=A, period=T,
                amplitude_dp=A / dp, options=json.loads(a.options), particles=case.n_particles, wall_seconds=wall,
                shoreline_at_rest=z0 / A, runup=ups, rundown=downs, excursion=exc,
-               shoreline_rms=rms, steps=sim.step_count)
-    print(f"  shoreline at t = 0: {z0 / A:+.3f} A; per period, highest / lowest over A (theory +1 / -1), "
+               shoreline_rms=rms, steps=sim.step_count,
+               series=dict(t=t.tolist(), shoreline=(zs / A).tolist(), theory=(theory / A).tolist()))
+    print(f"  shoreline at t = 0: {z0 / A:+.3f} A below the still level (the gauge's zero); per period, highest / lowest "
+          f"over A (theory +1 / -1), "
           f"half the excursion over A (theory 1):")
     for k, (u, dn, e) in enumerate(zip(ups, downs, exc)):
         print(f"    period {k + 1}: {u:+.3f} / {dn:+.3f}   excursion {e:.3f} ({e - 1:+.1%})")
@@ -153,6 +163,7 @@ def main(argv=None):
         per_g = periods_excursion(g[:, 0], eta, T)
         amps = [(hi - lo) / 2 / amp_theory for hi, lo in per_g]
         res[f"gauge_{name}"] = amps
+        res["series"][f"gauge_{name}"] = (eta / amp_theory).tolist()
         print(f"  wave gauge at X = {X:.3f} m: amplitude over theory's {amp_theory * 1e3:.2f} mm: "
               + ", ".join(f"{v:.3f}" for v in amps))
     print(f"  {sim.step_count} steps, {wall:.0f} s", flush=True)
