@@ -24,6 +24,7 @@ from .bridge_piers import BridgePiers
 from .core import CaseResult, Metric, PendingCase, ValidationCase, find_validation_dir
 from .dam_break import DamBreak2D
 from .hydrostatic import Hydrostatic
+from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
@@ -32,7 +33,8 @@ from .wave_flume import WaveFlume
 
 __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", "CaseResult", "Metric",
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
-           "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PendingCase", "find_validation_dir"]
+           "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "PendingCase",
+           "find_validation_dir"]
 
 
 
@@ -47,6 +49,7 @@ def _all_cases():
         RipCurrent(),
         SphericTest2(),
         WaveFlume(),
+        PeriodicRunup(),
         BridgePiers(),
     ]
 
