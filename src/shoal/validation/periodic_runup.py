@@ -219,6 +219,6 @@ class PeriodicRunup(ValidationCase):
         ax.set_xlabel("t / T")
         ax.set_ylabel("shoreline elevation / A")
         ax.legend(fontsize=8, loc="lower right")
-        path = save_png(fig, result.out / "periodic_runup.png")
+        path = save_png(fig, result.out / f"{self.name}.png")
         passed = all(m.passed for m in result.metrics if m.passed is not None)
         return [path], passed
