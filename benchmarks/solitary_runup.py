@@ -4,8 +4,9 @@ A 2D flume of still-water depth d: a `solitary` piston (Goring 1978) at x = 0 pu
 wave of height H; it runs over 20 d of flat bed, then up a plane beach of slope 1:cot from x = 20 d.
 Wave gauges at x = 2 d and x = 17 d measure the wave's height (the largest elevation as it passes) and
 so what the flume keeps of it over 15 depths; run-up gauges over the beach record the shoreline's
-highest elevation: the highest fluid particle (`type = "runup"`) and the wet shoreline where the water
-layer is at least one spacing thick (`min_depth = dp`).
+highest elevation: the highest fluid particle (`type = "runup"`), the wet shoreline where the water
+layer is at least one spacing thick (`min_depth = dp`), and the tip of the tongue (`min_depth = dp`,
+`max_gap = 2h`), read from its still-water value at t = 0 as a laboratory gauge is zeroed.
 
 Reference: the run-up law of the non-breaking solitary wave from the linear shallow-water equations
 (Synolakis 1987, J. Fluid Mech. 185, 523-545, Eq. 32; `validation-data` section 5),
@@ -60,8 +61,10 @@ def flume(d, H, cot, dp, options, end_time):
               Solid(name="flume", shape=Tank(lo=(x_back, 0.0, 0.0), hi=(x_end, 0.0, top)))]
     shore = x_toe + d * cot
     probes = [WaveGauge(name=f"x{k}d", x=k * d, z0=0.5 * d, z1=top, interval=0.005) for k in (2, 17)]
+    support = 2 * options.coef_h * math.sqrt(2) * dp
     probes += [RunupGauge(name="top", x0=shore - 2 * d * cot * H, x1=x_end, interval=0.005),
-               RunupGauge(name="wet", x0=x_toe, x1=x_end, min_depth=dp, interval=0.005)]
+               RunupGauge(name="wet", x0=x_toe, x1=x_end, min_depth=dp, interval=0.005),
+               RunupGauge(name="tip", x0=x_toe, x1=x_end, min_depth=dp, max_gap=support, interval=0.005)]
     return Case(name="solitary-runup", dim=2, dp=dp, end_time=end_time, fluid=Fluid(depth=d, surface_level=d),
                 options=options, solids=solids, fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(x_end, 0, d)))],
                 motions=[paddle], probes=probes, output=Output(interval=end_time / 8)), R
@@ -98,16 +101,21 @@ def main(argv=None):
         g17 = np.loadtxt(out / "gauge_x17d.csv", delimiter=",", skiprows=1)
         top = np.loadtxt(out / "runup_top.csv", delimiter=",", skiprows=1)
         wet = np.loadtxt(out / "runup_wet.csv", delimiter=",", skiprows=1)
+        tip = np.loadtxt(out / "runup_tip.csv", delimiter=",", skiprows=1)
     H2, H17 = (np.nanmax(g[:, 1]) - d for g in (g2, g17))
     r_top = np.nanmax(top[:, 1]) - d
     r_wet = np.nanmax(wet[:, 1]) - d
+    r_tip = np.nanmax(tip[:, 1]) - tip[0, 1]  # from the gauge's still-water reading
     res = dict(H=a.H, cot=a.cot, ddp=a.ddp, wall=a.wall, scheme=a.scheme, particles=case.n_particles,
                wall_seconds=time.perf_counter() - t0, H_2d=H2 / d, H_17d=H17 / d, height_kept=H17 / H2,
-               runup_theory=R / d, runup_top=r_top / d, runup_wet=r_wet / d)
+               runup_theory=R / d, runup_top=r_top / d, runup_wet=r_wet / d, runup_tip=r_tip / d,
+               tip_zero=(tip[0, 1] - d) / d)
     print(f"  wave height at x = 2 d: {H2 / d:.4f} d (target {a.H:g} d); at 17 d: {H17 / d:.4f} d; kept "
           f"{100 * H17 / H2:.1f} % over 15 depths")
     print(f"  run-up: theory {R / d:.4f} d; highest particle centre {r_top / d:.4f} d ({r_top / R - 1:+.1%}); "
-          f"wet shoreline (layer >= dp) {r_wet / d:.4f} d ({r_wet / R - 1:+.1%}); {res['wall_seconds']:.0f} s",
+          f"wet shoreline (layer >= dp) {r_wet / d:.4f} d ({r_wet / R - 1:+.1%}); tongue's tip (max_gap 2h), from "
+          f"its still-water reading {(tip[0, 1] - d) / d:+.4f} d: {r_tip / d:.4f} d ({r_tip / R - 1:+.1%}); "
+          f"{res['wall_seconds']:.0f} s",
           flush=True)
     if a.json:
         Path(a.json).write_text(json.dumps(res, indent=1))
