@@ -17,6 +17,7 @@ valid for waves that do not break on the way up, H/d < 0.818 (tan beta)^(10/9) (
 on 1:20, 0.063 on 1:10.
 
     python benchmarks/solitary_runup.py --cot 10 --H 0.05 --ddp 20
+    python benchmarks/solitary_runup.py --cot 10 --H 0.05 --ddp 20 --options '{"riemann": true}'
 """
 
 from __future__ import annotations
@@ -79,12 +80,14 @@ def main(argv=None):
     ap.add_argument("--wall", default="dynamic", choices=["dynamic", "adami", "mdbc"])
     ap.add_argument("--scheme", default="wave", choices=["wave", "default"],
                     help="the wave flumes' options (laminar, free-slip viscous walls, wide kernel) or the defaults")
+    ap.add_argument("--options", default="{}", help='more SPHOptions as a JSON object, e.g. \'{"riemann": true}\'')
     ap.add_argument("--out", help="keep the run here (else a temporary folder)")
     ap.add_argument("--json", help="write the figures to this JSON file")
     a = ap.parse_args(argv)
     d, dp = a.d, a.d / a.ddp
-    opts = SPHOptions(**({**WAVE_OPTIONS[2], "wall_pressure": a.wall} if a.scheme == "wave" else
-                         {"wall_pressure": a.wall}))
+    extra = json.loads(a.options)
+    opts = SPHOptions(**({**WAVE_OPTIONS[2], "wall_pressure": a.wall, **extra} if a.scheme == "wave" else
+                         {"wall_pressure": a.wall, **extra}))
     # the crest leaves the paddle at t0 = 3.8 / (k c) (`SolitaryPiston`), reaches the still-water shoreline
     # (x = 20 d + d cot) a travel time later, and climbs for a time of order cot^(1/2) (d/g)^(1/2) more
     paddle = SolitaryPiston(name="paddle", height=a.H * d, depth=d)
@@ -92,7 +95,8 @@ def main(argv=None):
     end = t0 + (20 * d + d * a.cot) / paddle.celerity + 3.0 * math.sqrt(d / 9.81) * a.cot ** 0.5 + 1.0
     case, R = flume(d, a.H, a.cot, dp, opts, end)
     print(f"solitary wave H/d = {a.H:g} on 1:{a.cot:g} (breaks: {breaks(a.H, a.cot)}), d = {d} m, d/dp = {a.ddp:g}, "
-          f"{case.n_particles:,} particles, to t = {end:.2f} s; scheme {a.scheme}, walls {a.wall}", flush=True)
+          f"{case.n_particles:,} particles, to t = {end:.2f} s; scheme {a.scheme}, walls {a.wall}, options {extra}",
+          flush=True)
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(a.out) if a.out else Path(tmp)
@@ -106,7 +110,7 @@ def main(argv=None):
     r_top = np.nanmax(top[:, 1]) - d
     r_wet = np.nanmax(wet[:, 1]) - d
     r_tip = np.nanmax(tip[:, 1]) - tip[0, 1]  # from the gauge's still-water reading
-    res = dict(H=a.H, cot=a.cot, ddp=a.ddp, wall=a.wall, scheme=a.scheme, particles=case.n_particles,
+    res = dict(H=a.H, cot=a.cot, ddp=a.ddp, wall=a.wall, scheme=a.scheme, options=extra, particles=case.n_particles,
                wall_seconds=time.perf_counter() - t0, H_2d=H2 / d, H_17d=H17 / d, height_kept=H17 / H2,
                runup_theory=R / d, runup_top=r_top / d, runup_wet=r_wet / d, runup_tip=r_tip / d,
                tip_zero=(tip[0, 1] - d) / d)
