@@ -102,15 +102,15 @@ class Fluid(Spec):
     gravity : 3 floats
         Gravity [m/s^2] (x, y, z); z is up.
     depth : float, optional
-        Reference depth H [m]: the speed of sound is c0 = coef_sound *
-        sqrt(|g| H) (the still-water depth for waves and bores, the column
+        Reference depth H [m]: the speed of sound is ``c0 = coef_sound *
+        sqrt(|g| H)`` (the still-water depth for waves and bores, the column
         height for a dam break).
     u_max : float, optional
         Largest expected flow speed [m/s]; when given, c0 = coef_sound * u_max
         instead (e.g. sqrt(g H) + U for an inflow at speed U).
     surface_level : float, optional
         Still free-surface level [m]: fluid starts with the hydrostatic
-        density rho0 (1 + rho0 |g| (surface_level - z) / B)^(1/7).
+        density ``rho0 (1 + rho0 |g| (surface_level - z) / B)^(1/7)``.
     """
 
     rho0: PositiveReal = 1000.0

@@ -125,7 +125,7 @@ class SPHOptions:
         0 disables it; 0.5 in the tidal-bore paper.
     turbulence : {"none", "sps"}
         Sub-particle-scale (SPS) turbulence: a Smagorinsky eddy viscosity
-        nu_t = (Cs dp)^2 |S| in the SPS stress tensor of Dalrymple & Rogers
+        ``nu_t = (Cs dp)^2 |S|`` in the SPS stress tensor of Dalrymple & Rogers
         (2006) (Gotoh et al. 2001), as in both papers.
     sps_cs : float
         Smagorinsky constant Cs (0.12).

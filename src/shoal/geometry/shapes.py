@@ -388,6 +388,7 @@ class Bathymetry(Shape):
     """The bed: solid below the surface z = z_b(x, y) (and above `base`).
 
     Give exactly one of
+
     - `profile`: a piecewise-linear z_b(x), uniform in y (beaches, bars);
     - `grid`: a height map on a regular (x, y) grid, interpolated bilinearly;
     - `file`: a height map file (.csv/.txt with x, y, z columns, .npy of an
@@ -395,6 +396,7 @@ class Bathymetry(Shape):
       relative to the case file;
     - `function`: a Python callable z_b(x, y) on arrays (Python API only: a
       case file is data and cannot hold code).
+
     Outside the profile or grid, z_b is held at its edge value.
     """
 

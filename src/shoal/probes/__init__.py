@@ -122,7 +122,7 @@ class Tracker(Spec):
 
 class MaxZGauge(Spec):
     """The highest fluid particle centre [m] within a horizontal distance
-    `radius` [m] of (x, y) (2D: |x_j - x| <= radius), every `interval` s,
+    `radius` [m] of (x, y) (2D: ``|x_j - x| <= radius``), every `interval` s,
     written to ``maxz_<name>.csv`` (time, zmax; NaN when no fluid particle
     is within reach) -- DualSPHysics's GaugeMaxZ."""
 
@@ -136,7 +136,7 @@ class MaxZGauge(Spec):
 
 class RunupGauge(Spec):
     """Shoreline run-up: the highest fluid particle centre [m] with x0 <= x_j
-    <= x1 (and, in 3D, |y_j - y| <= band / 2; `band` omitted: every y),
+    <= x1 (and, in 3D, ``|y_j - y| <= band / 2``; `band` omitted: every y),
     every `interval` s, written to ``runup_<name>.csv`` (time, zmax, and the
     x, y where it is reached; NaN when the range holds no fluid).
 
