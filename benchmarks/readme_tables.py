@@ -1,13 +1,20 @@
-"""The README's tables of measured figures, generated from the data files in `results/tables/`.
+"""The tables of measured figures in README.md and the user guide (`docs/`), generated from the data files in
+`results/tables/`.
 
-Each `results/tables/NAME.json` holds a table: its ``columns`` (with optional ``column_names`` to show),
-its ``rows`` (a ``measure``, one value per column, and ``from``: the raw benchmark outputs, relative
-to `results/`, that the values were read from), and an ``about`` line. The README shows each between
-the markers ``<!-- table NAME -->`` and ``<!-- end table NAME -->``.
+Each `results/tables/NAME.json` holds a table: its ``columns`` (with optional ``column_names`` to show,
+and ``measure_name``, the first column's heading), its ``rows`` and an ``about`` line. A row has a
+``measure``, one value per column, and ``from``: where its values were read. An entry of ``from`` is either
+a raw benchmark output kept in the repository (a path relative to `results/`), or, for figures whose raw
+output was not kept, the record of the measurement: an object with the ``command`` that made it (and the
+``commit`` and ``date`` when they are known) and ``recorded_in``, the file under `results/` that holds the
+figures as they were first written down (`results/notes/README.md`).
+
+A page shows table NAME between the markers ``<!-- table NAME -->`` and ``<!-- end table NAME -->``; the
+pages are README.md and every Markdown file under `docs/` (not a build's output).
 
     python benchmarks/readme_tables.py            # print every table (markdown)
-    python benchmarks/readme_tables.py --write    # put them into README.md between their markers
-    python benchmarks/readme_tables.py --check    # exit 1 if a README table differs from its data
+    python benchmarks/readme_tables.py --write    # put them into the pages, between their markers
+    python benchmarks/readme_tables.py --check    # exit 1 if a page's table differs from its data
 
 (`tests/test_docs_numbers.py` runs the check.)
 """
@@ -16,13 +23,18 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
 RESULTS = HERE / "results"
 TABLES = RESULTS / "tables"
-README = HERE.parent / "README.md"
+README = ROOT / "README.md"
+DOCS = ROOT / "docs"
+
+BEGIN = re.compile(r"<!-- table (\S+) -->")
 
 
 def markers(name):
@@ -37,6 +49,17 @@ def names():
     return sorted(p.stem for p in TABLES.glob("*.json"))
 
 
+def pages():
+    """The files that may show tables: README.md and the guide's Markdown pages."""
+    docs = sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.relative_to(DOCS).parts)
+    return [README] + docs
+
+
+def shown(text):
+    """The names of the tables whose begin marker `text` holds."""
+    return BEGIN.findall(text)
+
+
 def table(d):
     """The markdown table of one data file's content `d`."""
     shown = d.get("column_names", d["columns"])
@@ -46,41 +69,76 @@ def table(d):
     return "\n".join(lines) + "\n"
 
 
-def readme_block(text, name):
-    """The text between the README's markers of table `name`, or None."""
+def block(text, name):
+    """The text between the markers of table `name` in `text`, or None."""
     begin, end = markers(name)
     if begin not in text or end not in text:
         return None
     return text.split(begin, 1)[1].split(end, 1)[0].strip("\n") + "\n"
 
 
+readme_block = block  # the name it had when only README.md held tables
+
+
+def replace(text, name, t):
+    """`text` with table `name`'s block replaced by `t` (every occurrence)."""
+    begin, end = markers(name)
+    out = []
+    while begin in text:
+        head, rest = text.split(begin, 1)
+        if end not in rest:
+            raise ValueError(f"{begin} has no {end}")
+        out.append(f"{head}{begin}\n{t}{end}")
+        text = rest.split(end, 1)[1]
+    return "".join(out) + text
+
+
+def rel(path):
+    try:
+        return path.relative_to(ROOT).as_posix()
+    except ValueError:
+        return str(path)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     g = ap.add_mutually_exclusive_group()
-    g.add_argument("--write", action="store_true", help="write the tables into README.md")
-    g.add_argument("--check", action="store_true", help="exit 1 if a README table is not its data's")
+    g.add_argument("--write", action="store_true", help="write the tables into their pages")
+    g.add_argument("--check", action="store_true", help="exit 1 if a page's table is not its data's")
     a = ap.parse_args(argv)
-    text = README.read_text()
-    bad = []
-    for name in names():
-        t = table(load(name))
-        if a.write:
-            begin, end = markers(name)
-            if begin not in text:
-                print(f"README.md has no {begin} marker", file=sys.stderr)
-                return 1
-            head, rest = text.split(begin, 1)
-            text = f"{head}{begin}\n{t}{end}{rest.split(end, 1)[1]}"
-        elif a.check:
-            if readme_block(text, name) != t:
-                bad.append(name)
-        else:
-            print(f"{name}:\n{t}")
-    if a.write:
-        README.write_text(text)
-    if bad:
-        print(f"README.md's tables {', '.join(bad)} differ from benchmarks/results/tables/; "
-              "run python benchmarks/readme_tables.py --write", file=sys.stderr)
+    known = names()
+    if not (a.write or a.check):
+        for name in known:
+            print(f"{name}:\n{table(load(name))}")
+        return 0
+    tables = {name: table(load(name)) for name in known}
+    where = {name: [] for name in known}
+    problems = []
+    for page in pages():
+        text = page.read_text()
+        new = text
+        for name in dict.fromkeys(shown(text)):
+            if name not in tables:
+                problems.append(f"{rel(page)} shows table {name}, which has no data file {rel(TABLES)}/{name}.json")
+                continue
+            where[name].append(page)
+            if a.write:
+                try:
+                    new = replace(new, name, tables[name])
+                except ValueError as e:
+                    problems.append(f"{rel(page)}: {e}")
+            elif block(text, name) != tables[name]:
+                problems.append(f"{rel(page)}: table {name} differs from {rel(TABLES)}/{name}.json")
+        if a.write and new != text:
+            page.write_text(new)
+    for name, found in where.items():
+        if not found:
+            problems.append(f"table {name} is shown on no page (README.md, docs/**/*.md): add its markers "
+                            f"{markers(name)[0]} {markers(name)[1]}")
+    if problems:
+        print("\n".join(problems), file=sys.stderr)
+        if a.check:
+            print("run python benchmarks/readme_tables.py --write", file=sys.stderr)
         return 1
     return 0
 
