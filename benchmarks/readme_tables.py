@@ -9,8 +9,9 @@ output was not kept, the record of the measurement: an object with the ``command
 ``commit`` and ``date`` when they are known) and ``recorded_in``, the file under `results/` that holds the
 figures as they were first written down (`results/notes/README.md`).
 
-A page shows table NAME between the markers ``<!-- table NAME -->`` and ``<!-- end table NAME -->``; the
-pages are README.md and every Markdown file under `docs/` (not a build's output).
+A page shows table NAME between the markers ``<!-- table NAME -->`` and ``<!-- end table NAME -->``, each on a
+line of its own (a marker quoted inside a line is text); the pages are README.md and every Markdown file under
+`docs/` (not a build's output).
 
     python benchmarks/readme_tables.py            # print every table (markdown)
     python benchmarks/readme_tables.py --write    # put them into the pages, between their markers
@@ -34,7 +35,7 @@ TABLES = RESULTS / "tables"
 README = ROOT / "README.md"
 DOCS = ROOT / "docs"
 
-BEGIN = re.compile(r"<!-- table (\S+) -->")
+BEGIN = re.compile(r"^<!-- table (\S+) -->$", re.M)
 
 
 def markers(name):
@@ -69,12 +70,20 @@ def table(d):
     return "\n".join(lines) + "\n"
 
 
+def _split(text, marker):
+    """(before, after) the first line of `text` that is `marker`, or None."""
+    m = re.search(rf"^{re.escape(marker)}$", text, re.M)
+    return None if m is None else (text[:m.start()], text[m.end():])
+
+
 def block(text, name):
     """The text between the markers of table `name` in `text`, or None."""
     begin, end = markers(name)
-    if begin not in text or end not in text:
+    head = _split(text, begin)
+    tail = None if head is None else _split(head[1], end)
+    if tail is None:
         return None
-    return text.split(begin, 1)[1].split(end, 1)[0].strip("\n") + "\n"
+    return tail[0].strip("\n") + "\n"
 
 
 readme_block = block  # the name it had when only README.md held tables
@@ -84,12 +93,13 @@ def replace(text, name, t):
     """`text` with table `name`'s block replaced by `t` (every occurrence)."""
     begin, end = markers(name)
     out = []
-    while begin in text:
-        head, rest = text.split(begin, 1)
-        if end not in rest:
+    while (cut := _split(text, begin)) is not None:
+        head, rest = cut
+        tail = _split(rest, end)
+        if tail is None:
             raise ValueError(f"{begin} has no {end}")
         out.append(f"{head}{begin}\n{t}{end}")
-        text = rest.split(end, 1)[1]
+        text = tail[1]
     return "".join(out) + text
 
 
