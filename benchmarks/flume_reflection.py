@@ -13,8 +13,8 @@ scheme's damping, the reflection, and higher harmonics).
     python benchmarks/flume_reflection.py --length 8.5 --zone 4.5 8.5 --beach-slope 0.5   # a 4 m zone
     python benchmarks/flume_reflection.py --analyse-only runs/flume   # again, on a finished run
 
-Measured (dp = 0.02 m, to t = 16 s, one thread, about 55 min each on a loaded 2-core machine): see the
-README (Validation, on waves).
+Measured (dp = 0.02 m, to t = 16 s, one thread, about 55 min each on a loaded 2-core machine): see
+`benchmarks/results/notes/README.md` (Validation, on waves).
 """
 
 from __future__ import annotations

@@ -16,7 +16,6 @@ exclude_patterns = ["_build"]
 root_doc = "index"
 
 myst_heading_anchors = 3
-myst_enable_extensions = ["dollarmath"]
 
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
@@ -60,6 +59,39 @@ def _anchors(app):
     app.add_transform(RawAnchors)
 
 
+def _repository_files(app):
+    """A link from a page to a Markdown file of the repository outside `docs/` (a validation case's README,
+    `validation/REPORT.md`, a results folder's README) is a link to that file, as it is on GitHub: MyST takes
+    any ``.md`` link for a page of the guide, so turn those that name no page into a download of the file."""
+    import os
+    from pathlib import Path
+
+    from sphinx import addnodes
+    from sphinx.transforms import SphinxTransform
+
+    class RepositoryFiles(SphinxTransform):
+        default_priority = 500
+
+        def apply(self):
+            here = Path(self.env.doc2path(self.env.docname)).parent
+            for ref in list(self.document.findall(addnodes.pending_xref)):
+                if ref.get("reftype") != "myst" or ref.get("refdomain") != "doc":
+                    continue
+                if ref["reftarget"] in self.env.found_docs:
+                    continue
+                target = Path(self.env.srcdir, ref["reftarget"] + ".md").resolve()
+                if not target.is_file():
+                    continue  # MyST's own warning stands
+                link = addnodes.download_reference(
+                    "", "", refdoc=ref["refdoc"], reftype="myst", refdomain=None,
+                    refexplicit=ref.get("refexplicit", False), reftarget=os.path.relpath(target, here))
+                link.extend(ref.children)
+                link.source, link.line = ref.source, ref.line
+                ref.replace_self(link)
+
+    app.add_transform(RepositoryFiles)
+
+
 def _short_signatures(app, what, name, obj, options, signature, return_annotation):
     """A case's pydantic models take every field as a keyword: show the names, not the defaults' reprs."""
     try:
@@ -73,4 +105,5 @@ def _short_signatures(app, what, name, obj, options, signature, return_annotatio
 
 def setup(app):
     _anchors(app)
+    _repository_files(app)
     app.connect("autodoc-process-signature", _short_signatures)

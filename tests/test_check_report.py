@@ -55,7 +55,8 @@ def test_checkpoint_size_estimate_matches_a_written_checkpoint(name, tmp_path, s
 
 
 def test_3d_verlet_float32_is_85_bytes_a_particle():
-    """The figure the README gives (86 B/particle measured with the file's overhead)."""
+    """The figure the README gave (86 B/particle measured with the file's overhead; now in
+    benchmarks/results/notes/README.md, Checkpoints and restart)."""
     case = _case("3d-verlet-float32")
     per = (checkpoint_bytes(10**6, 3, case.options, case_bytes=0) - CHECKPOINT_OVERHEAD) / 10**6
     assert per == 85

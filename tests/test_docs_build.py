@@ -13,8 +13,9 @@ DOCS = ROOT / "docs"
 
 
 def pages():
-    """README.md and the guide's Markdown pages (not a build's output)."""
-    return [ROOT / "README.md"] + sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.relative_to(DOCS).parts)
+    """README.md, the guide's Markdown pages (not a build's output) and the measurement notes they point to."""
+    guide = sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.relative_to(DOCS).parts)
+    return [ROOT / "README.md"] + guide + [ROOT / "benchmarks" / "results" / "notes" / "README.md"]
 
 
 def test_docs_build_without_warnings(tmp_path):

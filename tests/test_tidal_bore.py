@@ -107,7 +107,8 @@ def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
     At d0/20 in the 5 m flume (`benchmarks/breaking_bore.py --dp 0.005 --length 5`, 51 min on 2 threads)
     the settled front's celerity over 1.0-2.5 m is +0.7 % and the level behind it -3.0 to -6.5 %: the
     inflow ahead of the bore slows near the bed (to 0.28 m/s in the lowest 2 cm by t = 2.5 s); without
-    the MLS filter the level is within 3 % at d0/10 but still -3.2 to -5.3 % at d0/20 (README, Validation)."""
+    the MLS filter the level is within 3 % at d0/10 but still -3.2 to -5.3 % at d0/20
+    (benchmarks/results/notes/README.md, Validation)."""
     dc, dl, n, first, index = run_bore(U, 0.01, end_time, tmp_path, options=LOW_ALPHA, breaking=True)
     assert abs(dc) < 0.03 and abs(dl) < 0.03
     if U < 0.5:

@@ -14,7 +14,7 @@ Checked here against what the formula must give:
   integrating its own continuity equation) drags it: measured with
   `benchmarks/bed_drag.py`, 0.7 m/s over a bed at dp = d0/10 loses 5.5 % of
   its depth-mean speed in 2 s on DBC walls, 0.7 % on Adami walls and none
-  over a wall plane (see the README for d0/20).
+  over a wall plane (see benchmarks/results/notes/README.md for d0/20).
 """
 
 import numpy as np
