@@ -59,3 +59,89 @@ def test_paddle_moves_with_the_flow_at_its_face():
     """d xi / dt = u(L, t): the stroke's rate at t = 0 is the solution's velocity at the paddle."""
     L = 1.0
     assert WAVE.paddle_stroke(L) * WAVE.omega == pytest.approx(float(WAVE.velocity(L, 0.0)), rel=1e-12)
+
+
+NONLINEAR = BeachStandingWave.for_flume(depth=0.1, slope=0.1, sigma_paddle=3.0, breaking=0.5)
+
+
+@pytest.mark.parametrize("t", [0.0, 0.9, 2.3, 3.7])
+def test_nonlinear_fields_solve_the_nonlinear_shallow_water_equations(t):
+    """With h = s X + eta and u towards the shore (X offshore): eta_t - (h u)_X = 0 and
+    u_t - u u_X = g eta_X, by centred differences (second order: residuals below 1e-6 of the terms)."""
+    w, s, g = NONLINEAR, NONLINEAR.slope, NONLINEAR.g
+    X = np.linspace(0.3, 1.2, 60)  # wet at every phase (the shoreline runs between X = -A/s and +A/s)
+    e, dt = 1e-5, 1e-5
+
+    def h_u(Xs, ts):
+        eta, u = w.nonlinear(Xs, ts)
+        return (s * Xs + eta) * u
+
+    eta, u = w.nonlinear(X, t)
+    eta_t = (w.nonlinear(X, t + dt)[0] - w.nonlinear(X, t - dt)[0]) / (2 * dt)
+    hu_X = (h_u(X + e, t) - h_u(X - e, t)) / (2 * e)
+    assert np.all(np.isfinite(eta_t))
+    assert np.abs(eta_t - hu_X).max() < 1e-6 * np.abs(hu_X).max()
+    u_t = (w.nonlinear(X, t + dt)[1] - w.nonlinear(X, t - dt)[1]) / (2 * dt)
+    u_X = (w.nonlinear(X + e, t)[1] - w.nonlinear(X - e, t)[1]) / (2 * e)
+    eta_X = (w.nonlinear(X + e, t)[0] - w.nonlinear(X - e, t)[0]) / (2 * e)
+    assert np.abs(u_t - u * u_X - g * eta_X).max() < 1e-6 * np.abs(g * eta_X).max()
+
+
+def test_nonlinear_wave_tends_to_the_linear_one():
+    """At epsilon = 1e-4 the nonlinear wave is the linear one within 1e-3 of its amplitudes."""
+    w = BeachStandingWave.for_flume(depth=0.1, slope=0.1, sigma_paddle=3.0, breaking=1e-4)
+    X = np.linspace(0.05, 1.0, 40)
+    for t in (0.0, 0.4 * w.period, 0.8 * w.period):
+        eta, u = w.nonlinear(X, t)
+        assert np.abs(eta - w.elevation(X, t)).max() < 1e-3 * w.amplitude
+        assert np.abs(u - w.velocity(X, t)).max() < 1e-3 * w.amplitude * w.omega / w.slope
+
+
+def test_nonlinear_shoreline_reaches_plus_and_minus_A():
+    """Carrier & Greenspan's run-up invariance: the shoreline's extremes are +A and -A (at t = T/4 and
+    -T/4), and it is the surface at the shoreline's position, X = -eta / s."""
+    w = NONLINEAR
+    t = np.linspace(-0.5 * w.period, 0.5 * w.period, 4001)
+    z = w.nonlinear_shoreline(t)
+    assert z.max() == pytest.approx(w.amplitude, rel=1e-6)
+    assert z.min() == pytest.approx(-w.amplitude, rel=1e-6)
+    assert t[np.argmax(z)] == pytest.approx(0.25 * w.period, abs=w.period / 2000)
+    assert t[np.argmin(z)] == pytest.approx(w.rundown_time, abs=w.period / 2000)
+    # just offshore of the shoreline the water is continuous with it
+    for tk in (0.1, 1.3, 2.9):
+        zs = float(w.nonlinear_shoreline(tk))
+        eta, _ = w.nonlinear(-zs / w.slope + 1e-7, tk)
+        assert float(eta) == pytest.approx(zs, abs=1e-5 * w.amplitude)
+
+
+def test_rundown_is_at_rest_with_its_surface():
+    """At t = -T/4 the water is still (u = 0) and its surface is `rundown_surface`: -A at the
+    shoreline, X = A / s, and the linear wave's -A J0(sigma) far offshore to within epsilon's order."""
+    w = NONLINEAR
+    X = np.linspace(0.23, 1.0, 30)
+    eta, u = w.nonlinear(X, w.rundown_time)
+    assert np.abs(u).max() < 1e-12 * w.amplitude * w.omega / w.slope
+    assert np.allclose(eta, w.rundown_surface(X), rtol=0, atol=1e-6 * w.amplitude)
+    assert float(w.rundown_surface(w.amplitude / w.slope)) == pytest.approx(-w.amplitude, rel=1e-6)
+    assert np.isnan(w.rundown_surface(0.9 * w.amplitude / w.slope))  # dry
+    assert np.isnan(w.nonlinear(0.0, w.rundown_time)[0])
+
+
+def test_column_path_keeps_the_water_behind_it():
+    """The paddle's path: the volume of water between the shoreline and the column moving with the flow
+    stays what it was (to 1e-6), over a period, and the path is periodic."""
+    w = NONLINEAR
+    t0 = w.rundown_time
+    t = t0 + np.linspace(0.0, w.period, 9)
+    Xp = w.column_path(1.0, t0, t)
+    assert Xp[-1] == pytest.approx(1.0, abs=1e-7)
+
+    def volume(Xc, tk):
+        Xs = -float(w.nonlinear_shoreline(tk)) / w.slope
+        q = np.linspace(Xs, Xc, 4001)[1:]
+        depth = w.slope * q + w.nonlinear(q, tk)[0]
+        return float(np.trapezoid(np.concatenate([[0.0], depth]), np.linspace(Xs, Xc, 4001)))
+
+    v0 = volume(1.0, t0)
+    for Xk, tk in zip(Xp, t):
+        assert volume(Xk, tk) == pytest.approx(v0, rel=1e-6)
