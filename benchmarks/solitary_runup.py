@@ -50,7 +50,7 @@ def breaks(H, cot):
     return H >= 0.818 * (1.0 / cot) ** (10.0 / 9.0)
 
 
-def flume(d, H, cot, dp, options, end_time):
+def flume(d, H, cot, dp, options, end_time, fit_surface=False):
     paddle = SolitaryPiston(name="paddle", height=H * d, depth=d)
     x_toe = 20 * d
     R = runup_law(H, cot) * d
@@ -58,7 +58,7 @@ def flume(d, H, cot, dp, options, end_time):
     x_end = x_toe + top * cot
     x_back = -4 * dp - 2 * dp
     solids = [Solid(name="paddle", shape=Box(lo=(-4 * dp, 0.0, 0.0), hi=(0.0, 0.0, top)), motion="paddle"),
-              Solid(name="beach", shape=Slope(x0=x_toe, z0=0.0, gradient=1.0 / cot)),
+              Solid(name="beach", shape=Slope(x0=x_toe, z0=0.0, gradient=1.0 / cot), fit_surface=fit_surface),
               Solid(name="flume", shape=Tank(lo=(x_back, 0.0, 0.0), hi=(x_end, 0.0, top)))]
     shore = x_toe + d * cot
     probes = [WaveGauge(name=f"x{k}d", x=k * d, z0=0.5 * d, z1=top, interval=0.005) for k in (2, 17)]
@@ -81,6 +81,7 @@ def main(argv=None):
     ap.add_argument("--scheme", default="wave", choices=["wave", "default"],
                     help="the wave flumes' options (laminar, free-slip viscous walls, wide kernel) or the defaults")
     ap.add_argument("--options", default="{}", help='more SPHOptions as a JSON object, e.g. \'{"riemann": true}\'')
+    ap.add_argument("--fit-surface", action="store_true", help="the beach's wall particles on layers parallel to it")
     ap.add_argument("--out", help="keep the run here (else a temporary folder)")
     ap.add_argument("--json", help="write the figures to this JSON file")
     a = ap.parse_args(argv)
@@ -93,9 +94,9 @@ def main(argv=None):
     paddle = SolitaryPiston(name="paddle", height=a.H * d, depth=d)
     t0 = 3.8 / (paddle.k * paddle.celerity)
     end = t0 + (20 * d + d * a.cot) / paddle.celerity + 3.0 * math.sqrt(d / 9.81) * a.cot ** 0.5 + 1.0
-    case, R = flume(d, a.H, a.cot, dp, opts, end)
+    case, R = flume(d, a.H, a.cot, dp, opts, end, fit_surface=a.fit_surface)
     print(f"solitary wave H/d = {a.H:g} on 1:{a.cot:g} (breaks: {breaks(a.H, a.cot)}), d = {d} m, d/dp = {a.ddp:g}, "
-          f"{case.n_particles:,} particles, to t = {end:.2f} s; scheme {a.scheme}, walls {a.wall}, options {extra}",
+          f"{case.n_particles:,} particles, to t = {end:.2f} s; scheme {a.scheme}, walls {a.wall}, options {extra}, fit_surface {a.fit_surface}",
           flush=True)
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
@@ -110,7 +111,7 @@ def main(argv=None):
     r_top = np.nanmax(top[:, 1]) - d
     r_wet = np.nanmax(wet[:, 1]) - d
     r_tip = np.nanmax(tip[:, 1]) - tip[0, 1]  # from the gauge's still-water reading
-    res = dict(H=a.H, cot=a.cot, ddp=a.ddp, wall=a.wall, scheme=a.scheme, options=extra, particles=case.n_particles,
+    res = dict(H=a.H, cot=a.cot, ddp=a.ddp, wall=a.wall, scheme=a.scheme, options=extra, fit_surface=a.fit_surface, particles=case.n_particles,
                wall_seconds=time.perf_counter() - t0, H_2d=H2 / d, H_17d=H17 / d, height_kept=H17 / H2,
                runup_theory=R / d, runup_top=r_top / d, runup_wet=r_wet / d, runup_tip=r_tip / d,
                tip_zero=(tip[0, 1] - d) / d)

@@ -1,7 +1,8 @@
 """The gap between still water and its walls, and the pressure on them, by boundary treatment (issue 28).
 
-Still water of depth H at rest over three beds: a flat bed (2D), a 1:10 slope (2D) and a 1:10 ramp
-read from an STL file (3D), each run to t = `--end` s with the case defaults and the chosen
+Still water of depth H at rest over four beds: a flat bed (2D), a 1:10 slope (2D), the same slope with
+its wall particles on layers parallel to its surface (`fit_surface = true`, "slope-fit") and a 1:10
+ramp read from an STL file (3D), each run to t = `--end` s with the case defaults and the chosen
 `wall_pressure`. Printed per bed:
 
 * **gap**: over bins one spacing wide along the wall (away from the tank's ends), the distance of the
@@ -71,14 +72,14 @@ def bed_case(kind, dp, depth, end, wall, tmp):
         L = x0 + depth / SLOPE + 2 * depth
         surface = lambda x: np.clip(SLOPE * (x - x0), 0.0, None)  # noqa: E731
         xs = [x0 + 0.25 * depth / SLOPE, x0 + 0.5 * depth / SLOPE, x0 + 0.75 * depth / SLOPE]
-        if kind == "slope":
+        if kind in ("slope", "slope-fit"):
             dim, width = 2, 0.0
             ramp = Slope(x0=x0, z0=0.0, gradient=SLOPE)
         else:
             dim, width = 3, 6 * dp
             ramp = Mesh(file=str(ramp_stl(Path(tmp) / "ramp.stl", x0, L + dp, 0.0, width + 2 * dp)))
         solids = [Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(L, width, 1.5 * depth))),
-                  Solid(name="bed", shape=ramp)]
+                  Solid(name="bed", shape=ramp, fit_surface=kind == "slope-fit")]
     y = 0.5 * width
     pts = [[x, y, float(surface(np.array([x]))[0])] for x in xs]
     depths = [depth - p[2] for p in pts]
@@ -134,7 +135,7 @@ def measure_surge(dp, wall, T=2.0):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--wall", nargs="+", default=["dynamic", "adami"])
-    ap.add_argument("--bed", nargs="+", default=["flat", "slope", "stl", "surge"])
+    ap.add_argument("--bed", nargs="+", default=["flat", "slope", "slope-fit", "stl", "surge"])
     ap.add_argument("--dp", type=float, default=0.01)
     ap.add_argument("--depth", type=float, default=0.2)
     ap.add_argument("--end", type=float, default=1.0)

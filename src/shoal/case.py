@@ -27,7 +27,7 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, StrictBool, model_validator
 
 from .errors import InputError
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
@@ -138,6 +138,13 @@ class Solid(Spec):
         2h reaches (every wall particle a fluid particle can see).
     motion : str, optional
         Name of a motion in the case's `motions` that moves this body.
+    fit_surface : bool
+        For a bed (`Slope`, `Bathymetry`) with dynamic particles: put its wall
+        particles on layers parallel to its surface, at normal depths
+        (k + 1/2) dp, instead of on the lattice's staircase, and lift the
+        fluid's lowest particles to dp/2 above it
+        (:mod:`shoal.geometry.surface_fit`); columns steeper than 45 degrees
+        stay on the lattice. For thin water on a slope: run-up, swash.
     """
 
     shape: AnyShape
@@ -145,6 +152,15 @@ class Solid(Spec):
     boundary: Literal["dynamic", "repulsive"] = "dynamic"
     layers: Annotated[int, Field(ge=1, strict=True)] | None = None
     motion: str | None = None
+    fit_surface: StrictBool = False
+
+    @model_validator(mode="after")
+    def _fit_surface_on_a_bed(self):
+        if self.fit_surface and (self.shape.type not in ("slope", "bathymetry") or self.boundary != "dynamic"):
+            raise ValueError(f"fit_surface = true is for a bed with dynamic particles (shape slope or "
+                             f"bathymetry, boundary dynamic); this solid is a {self.shape.type} with "
+                             f"{self.boundary} particles")
+        return self
 
 
 class FluidRegion(Spec):
@@ -417,7 +433,7 @@ class Case(BaseModel):
 
         check_generation_size(self, lo, hi)  # a tiny dp on a big case: refused now, not after hours
         solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}",
-                             group=s.motion)
+                             group=s.motion, fit_surface=s.fit_surface)
                   for i, s in enumerate(self.solids)]
         fluids = [FluidInput(f.shape, f.velocity) for f in self.fluids]
         support = 2.0 * self.smoothing_length / self.dp

@@ -125,6 +125,9 @@ class SolidInput:
     name: str = ""
     group: str | None = None
     """Moving solids of one group (one motion) share their wall normals' mask (`shoal.geometry.normals`)."""
+    fit_surface: bool = False
+    """A bed (`Slope`, `Bathymetry`) whose wall particles go onto layers parallel to its surface
+    (`shoal.geometry.surface_fit`)."""
 
 
 @dataclass
@@ -216,8 +219,41 @@ def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)
         ghosts = np.concatenate([p[5] if p[5] is not None else np.zeros((len(p[0]), 3)) for p in parts])
     # fluid first, then the walls solid by solid (stable: lattice order within each)
     order = np.lexsort((np.arange(len(pos)), body))
-    return Particles(pos[order], kinds[order], vel[order], body[order], region[order], spacing[order],
-                     [s.name for s in solids], None if ghosts is None else ghosts[order])
+    pos, kinds, vel, body, region, spacing = (a[order] for a in (pos, kinds, vel, body, region, spacing))
+    ghosts = None if ghosts is None else ghosts[order]
+    for k, s in enumerate(solids):
+        if s.fit_surface:
+            _fit_surface(s, k, pos, kinds, body, spacing, ghosts, dp, origin, dim)
+    return Particles(pos, kinds, vel, body, region, spacing, [s.name for s in solids], ghosts)
+
+
+def _fit_surface(solid, k, pos, kinds, body, spacing, ghosts, dp, origin, dim):
+    """Move solid `k`'s wall particles onto layers parallel to its surface and fit the fluid's rows
+    above it (`pos` and `ghosts` change in place; `shoal.geometry.surface_fit`)."""
+    from .surface_fit import fit_fluid, fit_walls, lattice_columns
+
+    if not hasattr(solid.shape, "level_gradient") or solid.method == "repulsive":
+        raise InputError(f"solid {solid.name!r}: fit_surface = true is for the dynamic walls of a bed "
+                         f"(a slope or a bathymetry); this one is a {getattr(solid.shape, 'type', 'shape')} "
+                         f"with {solid.method} particles")
+    own = (body == k) & (spacing == dp)
+    if not own.any():
+        return
+    # the fixed wall particles below the surface in the bed's columns, whoever owns them (a tank's floor
+    # under a beach listed after the tank), so that the layers are whole
+    columns = lattice_columns(pos[own], dp, origin, dim)
+    below = (kinds == FIXED) & (spacing == dp) & (pos[:, 2] < solid.shape.level(pos[:, 0], pos[:, 1]))
+    below &= np.isin(lattice_columns(pos, dp, origin, dim), columns)
+    walls = np.flatnonzero(own | below)
+    p = pos[walls]
+    g, fitted, columns = fit_walls(solid.shape, p, dp, origin, dim)
+    pos[walls] = p
+    if ghosts is not None:
+        ghosts[walls[fitted]] = g[fitted]
+    fluid = np.flatnonzero(kinds == FLUID)
+    q = pos[fluid]
+    fit_fluid(solid.shape, q, dp, origin, dim, columns)
+    pos[fluid] = q
 
 
 def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick, fine, normals=False,

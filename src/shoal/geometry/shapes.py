@@ -211,6 +211,15 @@ class Slope(Shape):
     x1: Real | None = None
     y: Vec2 | None = None
 
+    def level(self, x, y):
+        """Surface level z [m] of the plane at the points (x, y) (also beyond x0 and x1)."""
+        return self.z0 + self.gradient * (np.asarray(x, float) - self.x0)
+
+    def level_gradient(self, x, y):
+        """(dz/dx, dz/dy) of the surface at the points (x, y)."""
+        x = np.asarray(x, float)
+        return np.full(x.shape, float(self.gradient)), np.zeros(x.shape)
+
     def contains(self, points, dim, pad=0.0):
         x, z = points[:, 0], points[:, 2]
         m = (x >= self.x0) & (z < self.z0 + self.gradient * (x - self.x0))
@@ -441,6 +450,15 @@ class Bathymetry(Shape):
         gx, gy, gz = self._grid()
         f = RegularGridInterpolator((gx, gy), gz, method="linear")
         return f(np.column_stack([np.clip(x, gx[0], gx[-1]), np.clip(y, gy[0], gy[-1])]))
+
+    def level_gradient(self, x, y):
+        """(dz_b/dx, dz_b/dy) at the points (x, y), by centred differences over 1e-6 m (across a kink of
+        a profile or a grid, the mean of the two sides)."""
+        x = np.asarray(x, float)
+        y = np.asarray(y, float)
+        e = 1e-6
+        return ((self.level(x + e, y) - self.level(x - e, y)) / (2 * e),
+                (self.level(x, y + e) - self.level(x, y - e)) / (2 * e))
 
     def contains(self, points, dim, pad=0.0):
         zb = self.level(points[:, 0], points[:, 1])
