@@ -1,13 +1,14 @@
 """Periodic run-up on a plane beach: the standing wave of Carrier & Greenspan (1958).
 
 The flume (`periodic_runup_flume`): a 2D beach of slope 1:cot from a piston paddle at x = 0, where the
-still water is d deep, to above the run-up; the still-water shoreline is at x = d cot. The paddle moves
-with the standing wave's velocity at its face (`shoal.analysis.beach_standing_wave`) and the fluid starts
-from the wave's state at t = 0 (`start_from_solution`): a flat surface at the hydrostatic density and the
-solution's velocity field, so the flume has no start-up transient to wait out. A run-up gauge follows
-the tip of the water that still interacts with the body (any particle, dry stretches up to the kernel
-support bridged) and is read from its value at t = 0, the still-water shoreline, as a laboratory run-up
-gauge is zeroed in still water.
+still water is d deep, to above the run-up; the still-water shoreline is at x = d cot. The flume starts
+from the nonlinear wave's moment of rest (`shoal.analysis.beach_standing_wave`): at the lowest rundown,
+t = -T/4, every particle is still, the surface is the solution's (`BeachStandingWave.rundown_surface`)
+and the density is hydrostatic under it (`start_at_rest`). The paddle then moves as the water column at
+its face does in the nonlinear solution (`BeachStandingWave.column_path`), so the flume is driven and
+started in the nonlinear wave's own state and has no transient to wait out. A run-up gauge follows the
+tip of the water that still interacts with the body (any particle, dry stretches up to the kernel
+support bridged); its offset from the true shoreline is read at the start, where the shoreline is at -A.
 """
 
 from __future__ import annotations
@@ -23,10 +24,12 @@ from . import runs
 from .core import Metric, ValidationCase, figure, save_png
 
 
-def periodic_runup_flume(wave, depth, cot, dp, options, end_time, folder, interval=None):
-    """The case of the flume for `wave` (a `BeachStandingWave`), the paddle's displacement written to
-    `folder` as a time series from one period before t = 0 (the spline's clamped start stays off the
-    run).
+def periodic_runup_flume(wave, depth, cot, dp, options, end_time, folder, interval=None, fit_surface=True):
+    """The case of the flume for `wave` (a `BeachStandingWave`), started at the solution's rundown
+    (run time 0 is the solution's t = -T/4); the paddle's displacement is written to `folder` as a time
+    series from one period before the start (the spline's clamped start stays off the run). With
+    `fit_surface` (default) the beach's wall particles lie on layers parallel to it
+    (`shoal.geometry.surface_fit`) instead of the lattice's staircase.
 
     Returns
     -------
@@ -35,22 +38,28 @@ def periodic_runup_flume(wave, depth, cot, dp, options, end_time, folder, interv
         at J0's first extremum sigma = 3.83 when the paddle lies beyond it).
     """
     from ..case import Case, Fluid, FluidRegion, Output, Solid
-    from ..geometry.shapes import Box, Slope, Tank
+    from ..geometry.shapes import Box, Prism, Slope, Tank
     from ..motions import TimeSeriesMotion
     from ..probes import RunupGauge, WaveGauge
 
     d, s = float(depth), 1.0 / cot
     shore = d * cot
-    T = wave.period
+    T, t0 = wave.period, wave.rundown_time
     t = np.arange(-T, end_time + T, T / 400)
     path = Path(folder) / "paddle.txt"
     path.parent.mkdir(parents=True, exist_ok=True)
-    np.savetxt(path, np.column_stack([t, wave.paddle_stroke(shore) * np.sin(wave.omega * t)]),
-               header="t [s], x [m]: the paddle of the Carrier & Greenspan standing wave")
+    np.savetxt(path, np.column_stack([t, shore - wave.column_path(shore, t0, t0 + t)]),
+               header="t [s], x [m]: the paddle of the Carrier & Greenspan standing wave, the water column "
+                      "at its face")
     top = d + 3 * wave.amplitude + 4 * dp
     x_end = top * cot
+    # the water at rest under the rundown surface, from the paddle's face to the shoreline (the beach
+    # solid holds the lattice nodes below its surface)
+    X = np.linspace(wave.amplitude / s, shore, 2001)
+    surface = [(float(shore - Xk), float(d + zk)) for Xk, zk in zip(X[::-1], wave.rundown_surface(X[::-1]))]
+    water = Prism(axis="y", vertices=[(0.0, 0.0)] + surface + [(shore - X[0], 0.0)])
     solids = [Solid(name="paddle", shape=Box(lo=(-4 * dp, 0.0, 0.0), hi=(0.0, 0.0, top)), motion="paddle"),
-              Solid(name="beach", shape=Slope(x0=0.0, z0=0.0, gradient=s)),
+              Solid(name="beach", shape=Slope(x0=0.0, z0=0.0, gradient=s), fit_surface=fit_surface),
               Solid(name="flume", shape=Tank(lo=(-6 * dp, 0.0, 0.0), hi=(x_end, 0.0, top)))]
     interval = interval or T / 200
     sigma_L = float(wave.sigma(shore))
@@ -61,37 +70,49 @@ def periodic_runup_flume(wave, depth, cot, dp, options, end_time, folder, interv
               RunupGauge(name="tip", x0=shore - 3 * wave.amplitude * cot, x1=x_end, min_depth=dp, max_gap=support,
                          interval=interval)]
     return Case(name="periodic-runup", dim=2, dp=dp, end_time=end_time, fluid=Fluid(depth=d, surface_level=d),
-                options=options, solids=solids, fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(x_end, 0, d)))],
+                options=options, solids=solids, fluids=[FluidRegion(shape=water)],
                 motions=[TimeSeriesMotion(name="paddle", file=str(path))], probes=probes,
                 output=Output(interval=end_time))
 
 
-def start_from_solution(model, wave, shore):
-    """Give the fluid particles the wave's velocity at t = 0: u, and w that keeps the flow on the bed
-    and divergence-free (the surface is flat then, so positions and density are the still water's)."""
+def start_at_rest(model, wave, depth, shore):
+    """Give the fluid particles the hydrostatic density under the rundown surface, rho0 (1 + rho0 g
+    (z_s - z) / B)^(1/7) with z_s = depth + `wave.rundown_surface` at their offshore distance (the
+    model's initial density is that of a flat surface at `depth`); they are at rest as the wave is."""
+    from ..physics.eos import GAMMA
+
     fluid = model.host(model.kind) == 0
     p = model.world_positions()[fluid]
-    X = shore - p[:, 0]
-    height = np.maximum(p[:, 2] - wave.slope * p[:, 0], 0.0)
-    vel = model.host(model.vel)
-    vel[fluid, 0] = wave.velocity(X, 0.0)
-    vel[fluid, 1] = wave.vertical_velocity(X, height, 0.0)
-    model.backend.copy_into(model.vel, vel.astype(model.dtype), model.n)
+    z_s = depth + np.nan_to_num(wave.rundown_surface(shore - p[:, 0]), nan=-np.inf)
+    rho = model.host(model.rho)
+    under = np.clip(z_s - p[:, 2], 0.0, None)
+    g = float(np.linalg.norm(model.gravity))
+    rho[fluid] = model.rho0 * (1.0 + model.rho0 * g * under / model.B) ** (1.0 / GAMMA)
+    model.backend.copy_into(model.rho, rho.astype(model.dtype), model.n)
 
 
-def run_periodic_runup(wave, depth, cot, dp, options, periods, folder, backend="cpu"):
-    """Run the flume for `periods` periods; returns dict(t, shoreline [m above the still level, from
-    the gauge's t = 0 reading], zero [m, that reading less the still level], offshore [m], X_offshore,
-    steps, particles, seconds)."""
+def run_periodic_runup(wave, depth, cot, dp, options, periods, folder, backend="cpu", fit_surface=True):
+    """Run the flume from the rundown for `periods` periods of the solution's time t >= 0 (a quarter
+    period more: run time = t + T/4).
+
+    Returns
+    -------
+    dict
+        t [s, the solution's time], shoreline [m above the still level: the gauge's reading less its
+        offset at the start, where the shoreline is at -A], zero [m, that offset: the gauge's reading
+        less the true shoreline], offshore [m, the wave gauge less the still level] at offshore_t,
+        X_offshore [m], steps, particles, seconds.
+    """
     from ..probes import make_recorder
     from ..runner import build_model
     from ..simulation import Simulation, TimeInterval
 
     t0 = time.perf_counter()
-    end = periods * wave.period
-    case = periodic_runup_flume(wave, depth, cot, dp, options, end, folder)
+    end = (periods + 0.25) * wave.period
+    shore = depth * cot
+    case = periodic_runup_flume(wave, depth, cot, dp, options, end, folder, fit_surface=fit_surface)
     model = build_model(case, backend)
-    start_from_solution(model, wave, depth * cot)
+    start_at_rest(model, wave, depth, shore)
     sim = Simulation(model, end)
     recs = [make_recorder(p, folder, dp, model) for p in case.probes]
     for r in recs:
@@ -102,14 +123,15 @@ def run_periodic_runup(wave, depth, cot, dp, options, periods, folder, backend="
         for r in recs:
             r.close()
     gauge, tip = (np.array(r.rows, float) for r in recs)
-    zero = float(tip[0, 1]) - depth
-    return dict(t=tip[:, 0], shoreline=tip[:, 1] - depth - zero, zero=zero, offshore_t=gauge[:, 0],
-                offshore=gauge[:, 1] - depth, X_offshore=float(depth * cot - case.probes[0].x),
-                steps=sim.step_count, particles=case.n_particles, seconds=time.perf_counter() - t0)
+    zero = float(tip[0, 1]) - (depth - wave.amplitude)
+    return dict(t=tip[:, 0] + wave.rundown_time, shoreline=tip[:, 1] - depth - zero, zero=zero,
+                offshore_t=gauge[:, 0] + wave.rundown_time, offshore=gauge[:, 1] - depth,
+                X_offshore=float(shore - case.probes[0].x), steps=sim.step_count, particles=case.n_particles,
+                seconds=time.perf_counter() - t0)
 
 
 def excursions(t, z, period):
-    """Per whole period from t = 0: (highest, lowest) of z (NaNs left out)."""
+    """Per whole period from t = 0: (highest, lowest) of z (NaNs and t < 0 left out)."""
     out = []
     k = 0
     while (k + 1) * period <= t[-1] + 1e-9:
@@ -135,16 +157,18 @@ class PeriodicRunup(ValidationCase):
     setup = ("2D beach of slope 1:10 from a piston paddle where the still water is d = 0.1 m deep; the "
              "standing long wave of shoreline amplitude A = 0.222 d, breaking parameter epsilon = "
              "A omega^2 / (g s^2) = 0.5, k d = 0.15 at the paddle (sigma_L = 3, below the closed basin's "
-             "first natural mode 3.83). The paddle moves with the solution's velocity at its face and the "
-             "fluid starts from the solution at t = 0 (flat surface, hydrostatic density, the solution's "
-             "velocity field), so there is no start-up transient. Run-up gauge: the tip of the water that "
-             "still interacts with the body (`min_depth = dp`, `max_gap = 2h`), zeroed at t = 0 (the "
-             "still-water shoreline). The wave flumes' scheme (laminar viscosity, coef_h = 1.5), Adami "
-             "walls, float32. `--quick`: d/dp = 10, 1 period; `--full`: d/dp = 20, 3 periods.")
-    reference = ("Analytic: the linear standing wave eta = A J0(sigma) sin(omega t), sigma = 2 omega "
-                 "sqrt(X / (g s)) (Lamb 1932, section 186); the nonlinear solution of Carrier & Greenspan "
-                 "(1958, J. Fluid Mech. 4, 97-109) keeps the shoreline's extremes at +A and -A below "
-                 "breaking (epsilon < 1), distorting only their timing.")
+             "first natural mode 3.83). The flume starts from the nonlinear solution's moment of rest, "
+             "the lowest rundown (its surface, hydrostatic density, no motion), and the paddle moves as the "
+             "solution's water column at its face, so there is no start-up transient. The beach's wall particles "
+             "lie on layers parallel to it (`fit_surface = true`). Run-up gauge: the tip "
+             "of the water that still interacts with the body (`min_depth = dp`, `max_gap = 2h`), its offset "
+             "from the shoreline read at the start (shoreline at -A). The wave flumes' scheme (laminar "
+             "viscosity, coef_h = 1.5), Adami walls, float32. `--quick`: d/dp = 10, 1 period; `--full`: "
+             "d/dp = 20, 3 periods (each after the first quarter period).")
+    reference = ("Analytic: the nonlinear standing wave of Carrier & Greenspan (1958, J. Fluid Mech. 4, "
+                 "97-109) by their hodograph transformation, whose shoreline reaches exactly +A and -A below "
+                 "breaking (epsilon < 1); its linear limit eta = A J0(sigma) sin(omega t), sigma = 2 omega "
+                 "sqrt(X / (g s)) (Lamb 1932, section 186).")
     tolerance_text = ("Half the shoreline's excursion in each period within 10 % of A (issue 28, item 3), "
                       "in the quick run (A = 2.2 dp) as in the full one.")
 
@@ -202,21 +226,33 @@ class PeriodicRunup(ValidationCase):
         from ..analysis.beach_standing_wave import BeachStandingWave
 
         wave = BeachStandingWave(amplitude=A, slope=0.1, omega=2 * math.pi / T)
+        t = np.asarray(d["t"])
         z = np.asarray(d["shoreline"])
-        ok = np.isfinite(z)
-        rms = float(np.sqrt(np.mean((z[ok] - wave.shoreline(np.asarray(d["t"])[ok])) ** 2))) / A
-        result.metrics.append(Metric("rms of the shoreline less A sin(omega t), over A", rms,
-                                     note="the timing; the nonlinear wave's shoreline is not a sine"))
-        result.notes.append(f"{d['steps']:,} steps; the gauge's still-water zero is {d['zero'] / A:+.2f} A "
-                            "from the still level (the last particle sits on the bed below the surface).")
+        ok = np.isfinite(z) & (t >= 0)
+        rms = float(np.sqrt(np.mean((z[ok] - wave.nonlinear_shoreline(t[ok])) ** 2))) / A
+        result.metrics.append(Metric("rms of the shoreline less the nonlinear solution's, over A", rms,
+                                     note="the shape and timing of the run-up and rundown"))
+        if "offshore" in d:
+            tg, zg = np.asarray(d["offshore_t"]), np.asarray(d["offshore"])
+            eta = wave.nonlinear(d["X_offshore"], tg)[0]
+            on = (tg >= 0) & np.isfinite(zg) & np.isfinite(eta)
+            scale = 0.5 * (np.nanmax(eta) - np.nanmin(eta))
+            result.metrics.append(Metric(
+                f"offshore surface (X = {d['X_offshore']:.2f} m) less the nonlinear solution's, rms over its "
+                "amplitude", float(np.sqrt(np.mean((zg[on] - eta[on]) ** 2))) / scale,
+                note="the standing wave the paddle keeps up"))
+        result.notes.append(f"{d['steps']:,} steps; the gauge reads {d['zero'] / A:+.2f} A from the true "
+                            "shoreline at the start (the last particle sits on the bed below the surface).")
         fig = figure(8.0, 3.0)
         ax = fig.add_subplot(1, 1, 1)
-        t = np.asarray(d["t"])
-        ax.plot(t / T, np.asarray(d["shoreline"]) / A, "-", lw=1.0, color="tab:blue", label="shoal: run-up gauge")
-        ax.plot(t / T, wave.shoreline(t) / A, "k--", lw=1.0, label="linear theory: A sin(omega t)")
-        for s in (-1, 1):
-            ax.axhline(s, color="0.6", lw=0.6)
-        ax.set_xlabel("t / T")
+        ax.plot(t / T, z / A, "-", lw=1.0, color="tab:blue", label="shoal: run-up gauge")
+        tt = np.linspace(t[0], t[-1], 2000)
+        ax.plot(tt / T, wave.nonlinear_shoreline(tt) / A, "k--", lw=1.0,
+                label="Carrier & Greenspan (nonlinear shallow water)")
+        ax.axvline(0.0, color="0.6", lw=0.6, ls=":")
+        for sgn in (-1, 1):
+            ax.axhline(sgn, color="0.6", lw=0.6)
+        ax.set_xlabel("t / T (the run starts at rest at -T/4)")
         ax.set_ylabel("shoreline elevation / A")
         ax.legend(fontsize=8, loc="lower right")
         path = save_png(fig, result.out / f"{self.name}.png")
