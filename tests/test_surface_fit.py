@@ -79,8 +79,8 @@ def test_wall_pressure_of_the_fitted_layers_is_hydrostatic():
     p, kind, pos = model.pressure(), model.host(model.kind), model.world_positions()
     tree = cKDTree(pos[kind == FLUID][:, [0, 2]])
     x = pos[:, 0]
-    seen = (kind != FLUID) & (x > SLOPE.x0 + 10 * DP) & (x < 2.8 - DP) & (pos[:, 2] < SLOPE.level(x, 0)) & np.isfinite(
-        tree.query(pos[:, [0, 2]], distance_upper_bound=2 * case.smoothing_length)[0])
+    under = (kind != FLUID) & (x > SLOPE.x0 + 10 * DP) & (x < 2.8 - DP) & (pos[:, 2] < SLOPE.level(x, 0))
+    seen = under & np.isfinite(tree.query(pos[:, [0, 2]], distance_upper_bound=2 * case.smoothing_length)[0])
     assert seen.sum() > 100
     err = np.abs(p[seen] - 1000.0 * 9.81 * (D - pos[seen, 2])) / (1000.0 * 9.81 * D)
     assert err.max() < 2e-3

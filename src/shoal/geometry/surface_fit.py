@@ -4,10 +4,11 @@ On the common lattice (`shoal.geometry.generate`) a sloping bed is a staircase: 
 wall particles form treads ten spacings long and risers one spacing high. Water a few spacings deep
 does not notice, but a film one or two spacings thick, the tongue of run-up on a beach, meets a riser
 every ten spacings. With ``fit_surface = true`` a bed's wall particles are moved, each along the bed's
-normal n, onto layers parallel to its surface: in each lattice column (x, y) the wall particle k lattice
-steps below the column's highest goes to the normal depth (k + 1/2) dp, where the fluid's first layer would be mirrored
-(the surface lies half a spacing from both, as on a flat wall). A particle keeps its position along the
-surface, so a layer is as dense as a lattice row (spacing dp / cos(beta) along a slope of angle beta,
+normal n, onto layers parallel to its surface: in each lattice column (x, y) the wall particle k
+lattice steps below the column's highest goes to the normal depth (k + 1/2) dp, where the fluid's first
+layer would be mirrored (the surface lies half a spacing from both, as on a flat wall). A particle keeps
+its position along the surface, so a layer is as dense as a lattice row seen along the slope (spacing
+dp cos(beta), and dp (cos(beta) + sin(beta)) across a step of the lattice: dp / cos(beta) on average,
 1.005 dp on 1:10). The fluid's rows above the bed are fitted too (`fit_fluid`): the lowest particle of
 each column goes to dp/2 above the surface, and the rows above return to the lattice over `BLEND`
 rows. Left on the lattice, a fluid particle could start as close as dp/2 to a fitted wall particle, where
