@@ -46,6 +46,15 @@ def lattice_columns(pos, dp, origin, dim):
     return ix * (1 << 32) + (iy + (1 << 31))
 
 
+def _sorted_in_columns(key, value):
+    """(order, start): the particles sorted by column `key`, then by `value`; start[i] is the position
+    in that order of the first particle of the i-th sorted particle's column."""
+    order = np.lexsort((value, key))
+    first = np.ones(len(order), bool)
+    first[1:] = key[order][1:] != key[order][:-1]
+    return order, np.maximum.accumulate(np.where(first, np.arange(len(order)), 0))
+
+
 def fit_walls(shape, pos, dp, origin, dim):
     """Fit the lattice wall particles `pos` ((N, 3), one bed's, changed in place) to layers parallel to
     the bed's surface.
@@ -58,17 +67,14 @@ def fit_walls(shape, pos, dp, origin, dim):
     fitted : (N,) bool
         The particles that were moved (their columns' gradient is at most `STEEPEST`).
     columns : ndarray
-        The column keys of the fitted particles (for `lift_fluid`).
+        The column keys of the fitted particles (for `fit_fluid`).
     """
     n, steep = bed_normal(shape, pos[:, 0], pos[:, 1])
     level = shape.level(pos[:, 0], pos[:, 1])
     depth = (level - pos[:, 2]) * n[:, 2]  # normal distance below the column's tangent plane
     key = lattice_columns(pos, dp, origin, dim)
     # k: lattice steps below the column's highest wall particle (a gap in a column stays a gap)
-    order = np.lexsort((-pos[:, 2], key))
-    first = np.ones(len(order), bool)
-    first[1:] = key[order][1:] != key[order][:-1]
-    start = np.maximum.accumulate(np.where(first, np.arange(len(order)), 0))
+    order, start = _sorted_in_columns(key, -pos[:, 2])
     top = np.empty(len(order))
     top[order] = pos[order, 2][start]
     rank = np.rint((top - pos[:, 2]) / dp).astype(np.int64)
@@ -100,10 +106,7 @@ def fit_fluid(shape, pos, dp, origin, dim, columns):
     n, steep = bed_normal(shape, pos[idx, 0], pos[idx, 1])
     height = (pos[idx, 2] - shape.level(pos[idx, 0], pos[idx, 1])) * n[:, 2]
     k_idx = key[idx]
-    order = np.lexsort((height, k_idx))
-    first = np.ones(len(order), bool)
-    first[1:] = k_idx[order][1:] != k_idx[order][:-1]
-    start = np.maximum.accumulate(np.where(first, np.arange(len(order)), 0))
+    order, start = _sorted_in_columns(k_idx, height)
     rank = np.empty(len(order), np.int64)
     rank[order] = np.arange(len(order)) - start
     lowest = np.empty(len(order))
