@@ -21,7 +21,8 @@ from pathlib import Path
 from ..errors import InputError
 from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
-from .core import CaseResult, Metric, PendingCase, ValidationCase, find_validation_dir
+from .core import (CaseResult, Metric, PendingCase, ValidationCase, find_validation_dir, machine_text, source_state,
+                   utc_date)
 from .dam_break import DamBreak2D
 from .hydrostatic import Hydrostatic
 from .periodic_runup import PeriodicRunup
@@ -100,12 +101,16 @@ def run_validation(cases=None, quick=True, backend="cpu", out="runs/validate", l
     log : callable or None
         Called with one line per case as it starts and ends.
     command : str, optional
-        The command line, printed in the report.
+        The command line (accepted for the CLI; the report is rendered from ``results.json`` alone,
+        which does not hold it).
 
     Returns
     -------
     list of CaseResult
-        One per case, in order, each with its metrics, figures and verdict.
+        One per case, in order, each with its metrics, figures and verdict, and where and when it
+        was measured: ``commit`` and ``dirty`` (`shoal.validation.core.source_state` of the source,
+        taken once as the session starts), ``measured`` (the UTC date each case's entry was
+        completed) and ``machine``. A case that sets ``commit`` or ``measured`` itself keeps its own.
     """
     from .report import write_report
 
@@ -116,7 +121,14 @@ def run_validation(cases=None, quick=True, backend="cpu", out="runs/validate", l
     log = log or (lambda *_: None)
     mode = "quick" if quick else "full"
     results = []
-    t_start = time.perf_counter()
+    commit, dirty, commit_note = source_state()
+    machine = machine_text()
+
+    def stamp(res):
+        if res.commit is None and res.measured is None:
+            res.commit, res.dirty, res.commit_note = commit, dirty, commit_note
+            res.measured, res.machine = utc_date(), machine
+
     for case in cases:
         log(f"shoal validate: {case.name} ({mode}) ...")
         t0 = time.perf_counter()
@@ -127,6 +139,7 @@ def run_validation(cases=None, quick=True, backend="cpu", out="runs/validate", l
             res.reason = (f"not in the default quick set (its quick run takes about {case.cost / 60:.0f} min on 2 "
                           f"cores): `shoal validate {case.name}` runs it")
             log(f"shoal validate: {case.name}: {res.verdict} ({res.reason})")
+            stamp(res)
             results.append(res)
             continue
         try:
@@ -154,9 +167,9 @@ def run_validation(cases=None, quick=True, backend="cpu", out="runs/validate", l
             res.reason = "outside the tolerance: " + "; ".join(bad)
         log(f"shoal validate: {case.name}: {res.verdict}" + (f" ({res.reason})" if res.reason else "")
             + f" [{time.perf_counter() - t0:.0f} s]")
+        stamp(res)
         results.append(res)
-    write_report(results, out, quick=quick, backend=backend, seconds=time.perf_counter() - t_start,
-                 command=command)
+    write_report(results, out)
     return results
 
 

@@ -92,6 +92,13 @@ class CaseResult:
     ``reason`` says what), "not run" (e.g. a long run whose results are not there) or
     "not yet" (the case is not built in this slice). ``shared``: some of its runs were made (and
     timed) by another case of the same session; ``run_seconds`` then counts them too.
+
+    Where and when it was measured (written to ``results.json`` and shown in the report): ``commit``,
+    the 40-hex git commit of the shoal source the run used (None where it is not known: then
+    ``commit_note`` says why); ``dirty``, whether that source had changes not committed (None:
+    not known, e.g. an entry backfilled from git history); ``measured``, the UTC date (ISO,
+    ``YYYY-MM-DD``) the run ended; ``machine``, e.g. "2 CPU cores, Python 3.11.7". See
+    `source_state`; `shoal.validation.run_validation` fills them.
     """
 
     case: str
@@ -114,6 +121,11 @@ class CaseResult:
     reason: str = ""
     notes: list = field(default_factory=list)
     run_notes: int | None = None
+    commit: str | None = None
+    measured: str | None = None
+    dirty: bool | None = None
+    commit_note: str = ""
+    machine: str = ""
 
     @property
     def verdict(self):
@@ -229,6 +241,71 @@ def find_validation_dir():
         if cand.is_dir() and (parent / "pyproject.toml").is_file():
             return cand
     return Path.cwd() / "validation"
+
+
+REPORT_OUTPUTS = ("validation/REPORT.md", "validation/REPORT.html", "validation/results.json", "validation/figures")
+"""What ``shoal validate --out validation`` rewrites: a change there does not make the source dirty."""
+
+
+def source_checkout():
+    """The root of the git checkout this package is imported from (``pyproject.toml`` and ``.git``
+    beside ``src/``), or None for an installed copy."""
+    for parent in Path(__file__).resolve().parents:
+        if (parent / "pyproject.toml").is_file() and (parent / ".git").exists():
+            return parent
+    return None
+
+
+def _git(root, *args):
+    import subprocess
+
+    return subprocess.run(["git", "-C", str(root), *args], capture_output=True, text=True, timeout=30,
+                          check=True).stdout
+
+
+def source_state(root=None):
+    """The git commit of the shoal source a validation run measures: ``(commit, dirty, note)``.
+
+    `root` is the checkout (default: `source_checkout`, the one this package is imported from).
+    ``commit`` is ``git rev-parse HEAD`` there (40 hex). ``dirty`` is True when the checkout has
+    changes not in that commit: a tracked file modified or staged anywhere except the report's own
+    outputs (`REPORT_OUTPUTS`, which a run rewrites), or a file under ``src/`` git does not track;
+    the commit is then the one those changes were made on, and the entry says so. When the source
+    is not a git checkout (an installed copy) or git fails, ``commit`` and ``dirty`` are None and
+    ``note`` says why; otherwise ``note`` is "".
+    """
+    import subprocess
+
+    root = source_checkout() if root is None else Path(root)
+    if root is None:
+        from .. import __version__
+
+        return None, None, (f"shoal {__version__} is not imported from a git checkout (an installed copy): "
+                            "its commit is not known")
+    try:
+        commit = _git(root, "rev-parse", "--verify", "HEAD").strip()
+        excluded = [f":(exclude){p}" for p in REPORT_OUTPUTS]
+        changed = _git(root, "status", "--porcelain", "--untracked-files=no", "--", ".", *excluded)
+        untracked = _git(root, "status", "--porcelain", "--untracked-files=all", "--", "src")
+    except (OSError, subprocess.SubprocessError) as err:
+        lines = (getattr(err, "stderr", "") or str(err)).strip().splitlines()
+        return None, None, f"git could not give the commit of {root} ({lines[-1] if lines else type(err).__name__})"
+    dirty = bool(changed.strip()) or any(line.startswith("??") for line in untracked.splitlines())
+    return commit, dirty, ""
+
+
+def machine_text():
+    """The machine a run's time was measured on, e.g. "2 CPU cores, Python 3.11.7"."""
+    import platform
+
+    return f"{os.cpu_count()} CPU cores, Python {platform.python_version()}"
+
+
+def utc_date():
+    """Today's date in UTC, ISO (``YYYY-MM-DD``): a result's ``measured``."""
+    import datetime
+
+    return datetime.datetime.now(datetime.timezone.utc).date().isoformat()
 
 
 def read_csv_with_comments(path):
