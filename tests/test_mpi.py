@@ -5,6 +5,14 @@ The tests that start ranks are skipped when mpi4py is not installed or
 ``mpiexec`` does not start 2 ranks here (``pip install '.[mpi]'`` brings both
 from wheels); the slab cuts, the row packing and the single-process path are
 tested without MPI. Each rank runs with one Numba thread.
+
+Under CI (the environment variable ``CI`` set to anything but "", "0" or
+"false", as ``.ci/run`` does) those conditions fail the tests, with the same
+message, instead of skipping them: the test extra installs mpi4py and the
+MPICH wheel, so a CI run where the ranks cannot start is broken, not exempt.
+``mpiexec`` is looked for beside ``sys.executable`` first (the venv's, which
+``.ci/run`` does not put on the PATH), then on the PATH;
+``SHOAL_TEST_MPIEXEC`` names another launcher (a path or a command name).
 """
 
 from __future__ import annotations
@@ -23,14 +31,31 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 HERE = Path(__file__).resolve().parent
 
 
+def strict():
+    """True under CI: the environment variable ``CI`` set to anything but "", "0" or "false"."""
+    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false")
+
+
+def unavailable(reason):
+    """Skip the test for `reason` (no MPI here), or fail it with the same message under CI (`strict`)."""
+    if strict():
+        pytest.fail(reason, pytrace=False)
+    pytest.skip(reason)
+
+
 def _mpiexec():
-    exe = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or shutil.which("mpiexec")
+    named = os.environ.get("SHOAL_TEST_MPIEXEC")
+    if named:
+        exe = shutil.which(named)
+    else:
+        exe = shutil.which("mpiexec", path=str(Path(sys.executable).parent)) or shutil.which("mpiexec")
     if exe is None:
-        pytest.skip("no mpiexec (pip install mpich, or a system MPI)")
+        unavailable(f"no mpiexec{f' {named!r} (SHOAL_TEST_MPIEXEC)' if named else ''} "
+                    "(pip install mpich, or a system MPI)")
     try:
         version = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=30).stdout
     except (OSError, subprocess.TimeoutExpired):
-        pytest.skip("mpiexec --version failed")
+        unavailable("mpiexec --version failed")
     extra = ["--oversubscribe"] if "Open MPI" in version or "OpenRTE" in version else []
     return [exe, *extra]
 
@@ -43,17 +68,35 @@ def _env():
 
 @pytest.fixture(scope="module")
 def mpiexec():
-    pytest.importorskip("mpi4py")
+    """The command that starts ranks (``[mpiexec, options...]``), after a probe that 2 ranks start
+    and see each other; skips, or fails under CI (`strict`), when they cannot."""
+    try:
+        import mpi4py  # noqa: F401
+    except ImportError as exc:
+        unavailable(f"could not import 'mpi4py': {exc}")
     cmd = _mpiexec()
     probe = "from mpi4py import MPI; import sys; sys.exit(0 if MPI.COMM_WORLD.Get_size() == 2 else 1)"
     try:
         r = subprocess.run([*cmd, "-n", "2", sys.executable, "-c", probe], capture_output=True, text=True,
                            timeout=60, env=_env())
     except subprocess.TimeoutExpired:
-        pytest.skip("mpiexec -n 2 did not finish in 60 s")
+        unavailable("mpiexec -n 2 did not finish in 60 s")
+    except OSError as exc:
+        unavailable(f"mpiexec -n 2 does not run 2 ranks here: {exc}")
     if r.returncode != 0:
-        pytest.skip(f"mpiexec -n 2 does not run 2 ranks here: {r.stderr.strip()[-300:]}")
+        unavailable(f"mpiexec -n 2 does not run 2 ranks here: {r.stderr.strip()[-300:]}")
     return cmd
+
+
+@pytest.mark.parametrize("ci", ["", "0", "false", "1", "true"])
+def test_no_mpi_skips_or_fails_under_ci(ci, monkeypatch):
+    """Without a launcher the tests that start ranks skip, and fail with the same message when CI is
+    set (`unavailable`): SHOAL_TEST_MPIEXEC names one that does not exist."""
+    monkeypatch.setenv("CI", ci)
+    monkeypatch.setenv("SHOAL_TEST_MPIEXEC", "/nonexistent/mpiexec")
+    expected = pytest.fail.Exception if ci in ("1", "true") else pytest.skip.Exception
+    with pytest.raises(expected, match=r"no mpiexec '/nonexistent/mpiexec' \(SHOAL_TEST_MPIEXEC\)"):
+        _mpiexec()
 
 
 def test_world_is_none_outside_mpi():
