@@ -116,7 +116,7 @@ def _exercise(case):
         lines = check_case(case)
         assert any("particles:" in line for line in lines)
     else:  # only the guard that refuses, before generating, what cannot fit (it may pass: the case is valid)
-        from shoal.simulation.resources import check_generation_size
+        from shoal.memory import check_generation_size
 
         check_generation_size(case, *case._generation_box())
 

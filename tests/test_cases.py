@@ -110,10 +110,10 @@ def test_memory_check_admits_what_fits_and_refuses_what_does_not(monkeypatch):
     """On a 24 GiB machine the 20.8M-particle benchmark (dp = 1.6 mm; measured on the GPU machine: 205
     host bytes a particle at the peak) is admitted; the tank's volume was counted before, 5.7 times too
     many, and refused it. Half that dp (166M particles, 8 times the memory) is refused in one line."""
-    from shoal.cases import _checks
+    from shoal import memory
     from shoal.cases.dam_break import dam_break_dualsphysics
 
-    monkeypatch.setattr(_checks, "physical_memory", lambda: 24 * 2**30)
+    monkeypatch.setattr(memory, "physical_memory", lambda: 24 * 2**30)
     dam_break_dualsphysics(dp=0.0016)
     with pytest.raises(InputError, match=r"about 1\.6\de\+08 particles would be generated.*use a larger dp") as err:
         dam_break_dualsphysics(dp=0.0008)

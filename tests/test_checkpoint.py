@@ -26,7 +26,8 @@ from shoal.case import Checkpointing
 from shoal.cli import main
 from shoal.output import read_vtu
 from shoal.probes import FlowGauge, ForceGauge, TestPoints, WaveGauge
-from shoal.simulation.checkpoint import latest_checkpoint, list_checkpoints, read_checkpoint
+from shoal.simulation.checkpoint import list_checkpoints, read_checkpoint
+from shoal.simulation.resume import latest_checkpoint
 
 SRC = Path(shoal.__file__).resolve().parents[1]
 END = 0.2
@@ -235,9 +236,9 @@ def test_escaped_particles_are_recorded_and_can_stop_the_run(tmp_path):
 
 
 def test_memory_refusal(monkeypatch, tmp_path, capsys):
-    import shoal.simulation.resources as res
+    import shoal.memory as mem
 
-    monkeypatch.setattr(res, "available_memory", lambda: 1000)
+    monkeypatch.setattr(mem, "available_memory", lambda: 1000)
     rc = main(["run", "still-water-2d", "--dp", "0.05", "--out", str(tmp_path / "x"), "--no-progress"])
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1 and "memory" in err and "larger dp" in err

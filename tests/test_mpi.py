@@ -401,7 +401,7 @@ def test_pvtu_pieces_are_the_single_process_snapshots(dam_break_runs):
 def test_pvtu_round_trip_with_an_empty_piece(tmp_path):
     """write_pvtu + read_vtu on the .pvtu: the pieces concatenated in order, an empty piece included."""
     from shoal.output import read_vtu, write_pvtu, write_vtu
-    from shoal.output.pvtu import pvtu_layout, pvtu_pieces
+    from shoal.output.vtu import pvtu_layout, pvtu_pieces
 
     rng = np.random.default_rng(3)
     parts = []

@@ -68,15 +68,16 @@ def test_default_quick_set_leaves_long_cases_out_but_a_named_one_runs(tmp_path, 
     """`shoal validate` (no names) must fit in about 15 minutes: a case whose quick run is longer
     than QUICK_SET_LIMIT is reported "not run" with the command that runs it; named, it runs."""
     import shoal.validation as v
+    from shoal.validation import registry
 
-    monkeypatch.setattr(v, "VALIDATION_CASES", {"poiseuille": Poiseuille(), "long": _Long()})
+    monkeypatch.setattr(registry, "VALIDATION_CASES", {"poiseuille": Poiseuille(), "long": _Long()})
     poi, long = run_validation(None, quick=True, out=tmp_path, log=None)
     assert poi.verdict == "PASS"
     assert long.status == "not run" and "`shoal validate long` runs it" in long.reason
     assert "not in the default quick set" in (tmp_path / "REPORT.md").read_text()
     (named,) = run_validation([_Long()], quick=True, out=tmp_path / "named", log=None)
     assert named.verdict == "FAIL" and "the default quick set must not run a long case" in named.reason
-    assert sum(c.cost for c in v._all_cases() if c.cost <= v.QUICK_SET_LIMIT) < 15 * 60
+    assert sum(c.cost for c in registry.all_cases() if c.cost <= v.QUICK_SET_LIMIT) < 15 * 60
 
 
 def test_impossible_tolerance_is_a_fail_not_a_crash(tmp_path):

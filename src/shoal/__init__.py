@@ -14,8 +14,6 @@ The public API:
 * errors `InputError` and `InstabilityError`.
 """
 
-__version__ = "0.1.0"
-
 import os as _os
 
 # GNU OpenMP (Numba's usual threading layer on Linux) spins 300k iterations
@@ -40,6 +38,7 @@ from .cache_lock import install as _install_cache_lock  # noqa: E402
 _install_cache_lock()
 
 from . import cases, geometry, motions  # noqa: E402
+from .version import __version__  # noqa: E402
 from .case import Case, Domain, Fluid, FluidRegion, Output, Solid, SymmetryPlane  # noqa: E402
 from .casefile import load_case, write_case  # noqa: E402
 from .errors import InputError, InstabilityError, ShoalError  # noqa: E402

@@ -35,6 +35,7 @@ from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
 from .probes import AnyProbe
 from .options import SPHOptions
+from .physics.constants import smoothing_length, speed_of_sound
 
 def _exact_int(name, allowed):
     def check(v):
@@ -338,8 +339,7 @@ class Case(BaseModel):
         if self.fluid.depth is None and self.fluid.u_max is None:
             raise ValueError("fluid needs a depth (m) or a u_max (m/s) to set the speed of sound")
         g = float(np.linalg.norm(self.fluid.gravity))  # as the Model computes it (inf if it overflows)
-        u = self.fluid.u_max if self.fluid.u_max is not None else math.sqrt(g * self.fluid.depth)
-        c0 = self.options.coef_sound * u
+        c0 = speed_of_sound(self.options.coef_sound, self.fluid.gravity, self.fluid.depth, self.fluid.u_max)
         if not (0.0 < c0 < math.inf):
             if self.fluid.u_max is None and g == 0.0:
                 raise ValueError(f"fluid.gravity = {list(self.fluid.gravity)}: without gravity the speed of sound "
@@ -380,8 +380,8 @@ class Case(BaseModel):
     # ------------------------------------------------------------ derived
     @property
     def smoothing_length(self):
-        """h = coef_h sqrt(dim) dp [m]."""
-        return self.options.coef_h * math.sqrt(self.dim) * self.dp
+        """h = coef_h sqrt(dim) dp [m] (`shoal.physics.constants.smoothing_length`)."""
+        return smoothing_length(self.options.coef_h, self.dim, self.dp)
 
     def _generation_box(self):
         h2 = 2.0 * self.smoothing_length
@@ -429,7 +429,7 @@ class Case(BaseModel):
         if self._particles is not None and self._key == key:
             return self._particles
         lo, hi = self._generation_box()
-        from .simulation.resources import check_generation_size
+        from .memory import check_generation_size
 
         check_generation_size(self, lo, hi)  # a tiny dp on a big case: refused now, not after hours
         solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}",

@@ -388,7 +388,7 @@ def cmd_cases(args):
 def cmd_info(args):
     import numba
 
-    from . import __version__
+    from .version import __version__
 
     print(f"shoal {__version__}")
     from .backends.cuda import cuda_status

@@ -18,7 +18,8 @@ import numpy as np
 from .backends import get_backend
 from .errors import InputError, InstabilityError
 from .options import SPHOptions
-from .physics.eos import GAMMA
+from .physics.constants import particle_mass, reference_speed, smoothing_length, speed_of_sound
+from .physics.eos import GAMMA, density_of, pressure_of, tait_coefficient
 from .physics.spec import (ADAMI, FIXED, FLUID, MDBC, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec,
                            make_params, params_array)
 
@@ -109,12 +110,12 @@ class Model:
 
     @staticmethod
     def smoothing_length(options, dim, dp):
-        """h = coef_h sqrt(dim) dp [m] (DualSPHysics's convention)."""
-        return options.coef_h * math.sqrt(dim) * float(dp)
+        """h = coef_h sqrt(dim) dp [m] (`shoal.physics.constants.smoothing_length`)."""
+        return smoothing_length(options.coef_h, dim, dp)
 
     body_of = None
     """(n_ids,) int32: the solid (index in the case's `solids`) of each particle id, -1 for fluid; set by
-    `shoal.runner.build_model` (a Model built from bare arrays has none: no force gauges)."""
+    `shoal.build.build_model` (a Model built from bare arrays has none: no force gauges)."""
     body_names = None
     """Names of the case's solids, in the order of `body_of`'s indices."""
 
@@ -150,15 +151,13 @@ class Model:
         self.gravity = np.asarray(gravity, dtype=np.float64)
         g = float(np.linalg.norm(self.gravity))
         self.h = self.smoothing_length(options, dim, dp)
-        if u_max is None:
-            if fluid_height is None or g == 0:
-                raise InputError("give u_max (maximum expected speed, m/s) or a fluid_height with gravity "
-                                 "to set the speed of sound")
-            u_max = math.sqrt(g * float(fluid_height))
-        self.u_max = float(u_max)
-        self.c0 = options.coef_sound * self.u_max
-        self.B = self.c0**2 * self.rho0 / GAMMA
-        self.mass = self.rho0 * self.dp**dim
+        if u_max is None and (fluid_height is None or g == 0):
+            raise InputError("give u_max (maximum expected speed, m/s) or a fluid_height with gravity "
+                             "to set the speed of sound")
+        self.u_max = reference_speed(self.gravity, fluid_height, u_max)
+        self.c0 = speed_of_sound(options.coef_sound, self.gravity, fluid_height, u_max)
+        self.B = tait_coefficient(self.c0, self.rho0)
+        self.mass = particle_mass(self.rho0, self.dp, dim)
         lo3 = np.asarray(domain[0], dtype=np.float64)
         hi3 = np.asarray(domain[1], dtype=np.float64)
         periods = [hi3[k] - lo3[k] if a in periodic else 0.0 for k, a in ((0, "x"), (1, "y"))]
@@ -207,7 +206,7 @@ class Model:
         rho = np.full(n, self.rho0)
         if surface_z is not None and g > 0:
             depth = np.clip(float(surface_z) - positions[:, 2], 0.0, None)
-            rho = self.rho0 * (1.0 + self.rho0 * g * depth / self.B) ** (1.0 / GAMMA)
+            rho = density_of(self.rho0 * g * depth, self.rho0, self.B)  # hydrostatic
         # particle state (on the backend's device), in cell order after each sort
         # positions in float64 in every precision (see neighbours.gather)
         self.pos = b.asarray(np.ascontiguousarray(positions[:, cols], dtype=np.float64))
@@ -303,7 +302,7 @@ class Model:
             self.wall_normal_of = self.backend.asarray(unit.astype(self.dtype))
 
     def sample(self, points, shepard=True):
-        """SPH interpolation at fixed points (`shoal.probes.interpolate`).
+        """SPH interpolation at fixed points (`shoal.physics.interpolation`).
 
         Parameters
         ----------
@@ -318,7 +317,7 @@ class Model:
         "density" [kg/m^3], "velocity" [m/s] (NaN where no fluid particle is
         within 2h, in the Shepard form).
         """
-        from .probes.interpolate import n_probe_columns
+        from .physics.interpolation import n_probe_columns
 
         internal = self._internal_points(points)
         pts = internal
@@ -342,7 +341,7 @@ class Model:
         return {"kernel_sum": s, "pressure": o[:, 1], "density": o[:, 2], "velocity": vel}
 
     def sensor_moments(self, points):
-        """The fluid's weighted moments around fixed points (`shoal.probes.interpolate.make_sensor_moments`),
+        """The fluid's weighted moments around fixed points (`shoal.physics.interpolation.make_sensor_moments`),
         from which `shoal.probes.pressure_sensors.fit_pressure` extrapolates the pressure to each point.
 
         Parameters
@@ -354,7 +353,7 @@ class Model:
         -------
         (M, 14) float64 array in 3D, (M, 9) in 2D.
         """
-        from .probes.interpolate import n_moment_columns
+        from .physics.interpolation import n_moment_columns
 
         internal = self._internal_points(points)
         b = self.backend
@@ -382,7 +381,7 @@ class Model:
 
     def free_surface(self):
         """(n,) int8 flags of the active particles: 1 on the free surface (Marrone et
-        al. 2010 as in the rip-current paper, `shoal.probes.free_surface`), else 0."""
+        al. 2010 as in the rip-current paper, `shoal.physics.free_surface`), else 0."""
         b = self.backend
         out = self.scratch[(np.dtype(np.int8).str, 0)]
         wet = self.scratch[(np.dtype(np.int32).str, 0)]  # free between sorts
@@ -603,8 +602,7 @@ class Model:
 
     def pressure(self):
         """Tait pressure [Pa] of the active particles (float64)."""
-        r = self.host(self.rho).astype(np.float64) / self.rho0
-        return self.B * (r**GAMMA - 1.0)
+        return pressure_of(self.host(self.rho), self.rho0, self.B)
 
     def fields(self):
         """Point data of the active particles for snapshots."""

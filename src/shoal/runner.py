@@ -9,139 +9,20 @@
 from __future__ import annotations
 
 import json
-import logging
-import math
 import platform
-import time as _time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from .build import build_model
 from .errors import InputError, InstabilityError, OutputError, RunInterrupted
-from .model import Model
 from .simulation import Simulation, TimeInterval
+from .simulation.resume import check_same_case
+from .simulation.run_log import ProgressBar, close_run_log, open_run_log, print_warning
+from .simulation.run_result import RunResult, run_summary
+from .simulation.schedules import checkpoint_schedule
 from .simulation.writers import SnapshotWriter
-
-
-@dataclass
-class RunResult:
-    """What a finished run reports."""
-
-    out_dir: Path
-    steps: int
-    time: float
-    wall_seconds: float
-    compile_seconds: float
-    particles: int
-    escaped: int
-    snapshots: int
-    model: Model
-    simulation: Simulation
-    checkpoint: Path | None = None  # the last checkpoint written (the final state)
-    resumed_from: Path | None = None  # the checkpoint a resumed run started from
-
-    @property
-    def particle_steps_per_second(self):
-        """Particles times steps over the run's wall time less the compiling done inside it (kernels first
-        called while the model was built are compiled outside `wall_seconds`: subtracting all of
-        `compile_seconds` could leave nothing, or less than the run took)."""
-        run = self.wall_seconds - self.simulation.compile_seconds
-        return self.particles * self.steps / run if run > 0 else math.nan
-
-
-def build_model(case, backend="cpu"):
-    """The `Model` of a `Case`: generate its particles and compile the scheme."""
-    from .check import check_probes
-
-    p = case.particles()
-    check_probes(case, len(p))  # a probe outside the domain or a tracked id that is no particle
-    sym = None
-    if case.symmetry_planes:
-        if len(case.symmetry_planes) > 1:
-            raise InputError("one symmetry plane per case is supported")
-        sp = case.symmetry_planes[0]
-        n = np.asarray(sp.normal, float)
-        if case.dim != 3 or abs(abs(n[1]) - 1.0) > 1e-9:
-            raise InputError(f"symmetry plane normal {list(sp.normal)}: only planes y = const (normal [0, 1, 0] or "
-                             "[0, -1, 0]) in 3D cases are supported")
-        sym = (float(sp.point[1]), float(np.sign(n[1])))
-    index = {m.name: k for k, m in enumerate(case.motions)}
-    body_motion = np.array([index.get(s.motion, -1) if s.motion else -1 for s in case.solids] + [-1], np.int32)
-    motion_of = np.where(p.body >= 0, body_motion[p.body], -1)
-    kinds = p.kinds.copy()
-    rep = np.array([s.boundary == "repulsive" for s in case.solids] + [False])
-    on_rep = (p.body >= 0) & rep[p.body]
-    kinds[on_rep] += 2  # 1 -> 3 (repulsive), 2 -> 4 (moving repulsive)
-    fl = case.fluid
-    from .parallel import world
-
-    cls = Model
-    if world() is not None:  # under mpiexec with several ranks: this rank's slab (shoal.parallel)
-        from .parallel.model import DistributedModel as cls
-    model = cls(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
-                options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
-                surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
-                wall_normals=p.normals,
-                periodic=tuple(case.domain.periodic) if case.domain else (),
-                planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
-    model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges
-    model.body_names = [s.name for s in case.solids]
-    return model
-
-
-def run_summary(case, model):
-    """What a run records about its set-up (``resolved.json``)."""
-    lo, hi = case.resolved_domain()
-    counts = case.particles().counts()
-    return {
-        "name": case.name, "dim": case.dim, "dp": case.dp, "particles": counts, "total_particles": model.n_total,
-        "domain": [lo.tolist(), hi.tolist()], "end_time": case.end_time, "output_interval": case.output.interval,
-        "parameters": case.parameters,
-    }
-
-
-def _logger(out_dir, append=False):
-    log = logging.getLogger(f"shoal.run.{out_dir}")
-    log.setLevel(logging.INFO)
-    log.propagate = False
-    for h in list(log.handlers):
-        log.removeHandler(h)
-    fh = logging.FileHandler(out_dir / "run.log", mode="a" if append else "w")
-    fh.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
-    log.addHandler(fh)
-    return log
-
-
-class _Progress:
-    """A rich progress bar: simulated time, dt, steps/s and ETA."""
-
-    def __init__(self, end_time, enabled):
-        self.enabled = enabled
-        self.end_time = end_time
-        self.t0 = _time.perf_counter()
-        self.last_steps = 0
-        if enabled:
-            from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
-
-            self.bar = Progress(TextColumn("[bold]t = {task.fields[t]:.4f} s"), BarColumn(),
-                                TextColumn("dt = {task.fields[dt]:.2e} s  {task.fields[sps]:.0f} steps/s"),
-                                TimeRemainingColumn(), transient=False)
-            self.task = self.bar.add_task("run", total=end_time, t=0.0, dt=0.0, sps=0.0)
-            self.bar.start()
-
-    def __call__(self, sim):
-        if not self.enabled:
-            return
-        now = _time.perf_counter()
-        sps = (sim.step_count - self.last_steps) / max(now - self.t0, 1e-9)
-        self.t0, self.last_steps = now, sim.step_count
-        self.bar.update(self.task, completed=sim.time, t=sim.time, dt=sim.dt or 0.0, sps=sps)
-
-    def stop(self):
-        if self.enabled:
-            self.bar.stop()
+from .version import __version__
 
 
 def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False,
@@ -208,7 +89,8 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         The disk filled up (or another write failed).
     """
     from .parallel import world
-    from .simulation.resources import DISK_FULL, check_memory, disk_full_message, lock_run_dir
+    from .memory import check_memory
+    from .simulation.resources import DISK_FULL, disk_full_message, lock_run_dir
 
     if world() is not None:  # several MPI ranks (shoal.parallel.run)
         from .parallel.run import run_case_mpi
@@ -229,7 +111,7 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
         from .advice import wave_scheme_warnings
 
         for w in wave_scheme_warnings(case):
-            _warn(w)
+            print_warning(w)
             warnings.append(w)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -255,7 +137,7 @@ def _locked_run(case, out_dir, backend, progress, plot, max_steps, ck, model, ha
             clear_checkpoints(out_dir)
         else:
             set_aside_newer(out_dir, ck)
-        log = _logger(out_dir, append=ck is not None)
+        log = open_run_log(out_dir, append=ck is not None)
     except OSError as err:
         if err.errno in DISK_FULL:
             raise OutputError(disk_full_message(err, out_dir)) from None
@@ -266,7 +148,7 @@ def _locked_run(case, out_dir, backend, progress, plot, max_steps, ck, model, ha
     try:
         return _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, handle_signals, state)
     except CheckpointError as err:
-        _close_log(log)
+        close_run_log(log)
         raise InputError(f"cannot resume {out_dir}: {err}") from None
     except OSError as err:
         if err.errno not in DISK_FULL or isinstance(err, OutputError):
@@ -277,28 +159,8 @@ def _locked_run(case, out_dir, backend, progress, plot, max_steps, ck, model, ha
             log.error("%s", msg)
         except OSError:
             pass
-        _close_log(log)
+        close_run_log(log)
         raise OutputError(msg) from None
-
-
-def _close_log(log):
-    for h in list(log.handlers):
-        try:
-            h.close()
-        except OSError:
-            pass
-        log.removeHandler(h)
-
-
-def _checkpoint_schedule(cfg):
-    from .simulation.schedules import AnyOf, WallTimeInterval
-
-    parts = []
-    if cfg.interval > 0:
-        parts.append(TimeInterval(cfg.interval, start=cfg.interval, exact=False))  # never shortens a step
-    if cfg.wall_interval > 0:
-        parts.append(WallTimeInterval(cfg.wall_interval))
-    return AnyOf(*parts)
 
 
 def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, handle_signals, state):
@@ -339,7 +201,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
     writer = SnapshotWriter(out_dir, case.name, resume=ck is not None)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
-    bar = _Progress(case.end_time, progress)
+    bar = ProgressBar(case.end_time, progress)
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False),
                      name="progress")
 
@@ -350,7 +212,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
     sim.add_callback(log_step, TimeInterval(case.output.interval, exact=False), name="log")
     sim.add_callback(escaped, IterationInterval(1), name="escaped")
     ckw = CheckpointWriter(out_dir, case_toml, case.checkpoint.keep, log)
-    ck_cb = sim.add_callback(ckw, _checkpoint_schedule(case.checkpoint), name="checkpoint")  # last: sees the rest
+    ck_cb = sim.add_callback(ckw, checkpoint_schedule(case.checkpoint), name="checkpoint")  # last: sees the rest
     ck_cb.fresh_on_resume = True
     state["writer"] = ckw
     closers = [escaped, *recorders]
@@ -363,7 +225,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
         restore(sim, ck)
 
         def warn(w):
-            _warn(w)
+            print_warning(w)
             log.warning("%s", w)
 
         restore_recorders(sim, ck, out_dir, backups, warn)
@@ -395,7 +257,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
                 msg = (f"stopped by {name} at step {sim.step_count}, t = {sim.time:.6g} s; checkpoint {path.name} "
                        f"written; continue with: shoal run --resume {out_dir}")
                 log.warning("%s", msg)
-                _close_log(log)
+                close_run_log(log)
                 raise RunInterrupted(msg, signum, path)
     except InstabilityError as err:
         bar.stop()
@@ -404,7 +266,7 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
         path = writer.write(model, sim.time, suffix="unstable")
         kept = f"; last checkpoint kept: {ckw.last_path.name}" if ckw.last_path is not None else ""
         log.error("%s; bad state written to %s%s", err, path.name, kept)
-        _close_log(log)
+        close_run_log(log)
         raise InstabilityError(f"{err} (state written to {path})") from None
     except BaseException:
         bar.stop()
@@ -427,43 +289,20 @@ def _run(case, out_dir, backend, progress, plot, max_steps, ck, log, model, hand
     log.info("done: %d steps to t = %.6g s in %.2f s wall (%.2f s compile), %.3g particle-steps/s, "
              "%d particles escaped", result.steps, result.time, result.wall_seconds, result.compile_seconds,
              result.particle_steps_per_second, result.escaped)
-    _close_log(log)
+    close_run_log(log)
     return result
-
-
-def _warn(message):
-    import sys
-
-    sys.stderr.write(f"shoal: warning: {message}\n")
-
-
-def _same_case(case, ck):
-    """InputError unless `case` is the case checkpoint `ck` was written with
-    (end_time, [checkpoint] and max_escaped_fraction may differ)."""
-    import tomllib
-
-    from .casefile import dumps_case
-
-    a = tomllib.loads(ck.case_toml)
-    b = tomllib.loads(dumps_case(case, commented=False))
-    free = ("end_time", "checkpoint", "max_escaped_fraction")
-    diff = sorted(k for k in set(a) | set(b) if k not in free and a.get(k) != b.get(k))
-    if diff:
-        raise InputError(f"the case differs from the one {ck.path.name} was written with (in: {', '.join(diff)}); "
-                         "a resumed run continues the same case: only end_time, [checkpoint] and "
-                         "max_escaped_fraction may change")
 
 
 def _resume_point(case, out_dir, collect):
     """(case, checkpoint) to resume the run in `out_dir` from."""
     from .casefile import load_case
-    from .simulation.checkpoint import latest_checkpoint
+    from .simulation.resume import latest_checkpoint
 
     if not (out_dir / "resolved.json").exists() and not any(out_dir.glob("ckpt_*")):
         raise InputError(f"{out_dir} holds no run to resume (no resolved.json or checkpoint)")
 
     def warn(msg):
-        _warn(msg)
+        print_warning(msg)
         collect(msg)
 
     ck = latest_checkpoint(out_dir, warn=warn)
@@ -472,7 +311,7 @@ def _resume_point(case, out_dir, collect):
         if not toml.exists():
             raise InputError(f"{toml} is missing: the run's case file is needed to resume it")
         case = load_case(toml)
-    _same_case(case, ck)
+    check_same_case(case, ck)
     if ck.time >= case.end_time * (1 - 1e-12):
         raise InputError(f"the run in {out_dir} is complete (checkpoint {ck.path.name} at t = {ck.time:.6g} s, "
                          f"end_time = {case.end_time:g} s); give a later --end-time to extend it")

@@ -106,7 +106,7 @@ def preview_from_checkpoint(run_dir, dest):
     `dest` and the checkpoint's time."""
     from shoal.casefile import load_case
     from shoal.probes import GridRecorder, TestPoints
-    from shoal.simulation.checkpoint import latest_checkpoint
+    from shoal.simulation.resume import latest_checkpoint
 
     dest.mkdir(parents=True, exist_ok=True)
     ck = latest_checkpoint(run_dir)

@@ -25,7 +25,8 @@ import numpy as np
 from ..case import Case, Fluid, FluidRegion, Output, Solid
 from ..geometry.shapes import Box, Tank
 from ..options import SPHOptions
-from ._checks import check_count, check_dp, check_positive
+from ..memory import check_count
+from ._checks import check_dp, check_positive
 
 
 def dam_break_2d(dp=0.003, a=0.146, tank_length=None, layers=3, end_time=None, output_interval=0.05,

@@ -42,7 +42,8 @@ from ..errors import InputError
 from ..geometry.shapes import Bathymetry, Box, HeightGrid, Tank
 from ..motions import PistonWavemaker
 from ..options import SPHOptions
-from ._checks import check_count, check_dp, check_positive
+from ..memory import check_count
+from ._checks import check_dp, check_positive
 
 PAPER_OPTIONS = dict(kernel="wendland", shepard_every=20, density_diffusion="none", alpha=0.1, turbulence="sps",
                      wall_pressure="dynamic")

@@ -14,7 +14,8 @@ from __future__ import annotations
 from ..case import Case, Fluid, FluidRegion, Output, Solid
 from ..geometry.shapes import Box, Tank
 from ..options import SPHOptions
-from ._checks import check_count, check_dp, check_positive
+from ..memory import check_count
+from ._checks import check_dp, check_positive
 
 
 def still_water_2d(dp=0.01, depth=0.5, length=1.0, layers=3, end_time=2.0, output_interval=0.1, options=None):

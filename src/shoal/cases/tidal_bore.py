@@ -40,7 +40,8 @@ from ..geometry.shapes import Box, Prism, Tank
 from ..motions import ConstantVelocity
 from ..probes import WaveGauge
 from ..options import SPHOptions
-from ._checks import check_count, check_dp, check_positive
+from ..memory import check_count
+from ._checks import check_dp, check_positive
 
 LENGTH, WIDTH, HEIGHT, DEPTH = 3.0, 0.3, 0.4, 0.1
 PAPER_OPTIONS = dict(kernel="cubic", xsph=0.5, mls_every=30, integrator="predictor_corrector",

@@ -31,7 +31,8 @@ from ..geometry.shapes import Box, Slope, Tank
 from ..motions import PistonWavemaker
 from ..options import SPHOptions
 from ..probes import WaveGauge
-from ._checks import check_count, check_dp, check_positive
+from ..memory import check_count
+from ._checks import check_dp, check_positive
 
 WAVE_OPTIONS = {2: dict(viscosity="laminar", nu=1e-6, visco_bound_factor=0.0, coef_h=1.5),
                 3: dict(viscosity="laminar", nu=1e-6, visco_bound_factor=0.0, coef_h=1.2)}

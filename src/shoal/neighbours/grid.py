@@ -86,6 +86,31 @@ def _sorted_cells(cell, perm, n, out):
         out[k] = cell[perm[k]]
 
 
+def grid_dims(lo, hi, cell_size, periodic=None):
+    """Cells along each axis of the grid over the box [lo, hi): ceil(L / cell_size), at least 1; a
+    periodic axis is tiled by whole cells (floor: the last one up to 2x wider), so the stencil
+    that wraps round still covers the support.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (2,) or (3,)
+        The box [m] (2D: x, z).
+    cell_size : float
+        Cell edge [m]: the support 2h over the cells per support.
+    periodic : sequence of bool, optional
+        The periodic axes.
+
+    Returns
+    -------
+    numpy.ndarray of int64
+    """
+    lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
+    dims = np.maximum(np.ceil((hi - lo) / cell_size).astype(np.int64), 1)
+    for d in np.flatnonzero(np.zeros(lo.size, bool) if periodic is None else np.asarray(periodic, bool)):
+        dims[d] = int(np.floor((hi[d] - lo[d]) / cell_size + 1e-9))
+    return dims
+
+
 class CellGrid:
     """A uniform grid of cells over the box [lo, hi) and its particle sort.
 
@@ -115,12 +140,10 @@ class CellGrid:
         self.dim = lo.size
         self.n = int(cells_per_support)
         self.cell_size = float(support) / self.n
-        dims = np.maximum(np.ceil((hi - lo) / self.cell_size).astype(np.int64), 1)
         self.periodic = np.zeros(self.dim, bool) if periodic is None else np.asarray(periodic, bool)
+        dims = grid_dims(lo, hi, self.cell_size, self.periodic)
         for d in np.flatnonzero(self.periodic):
-            # a periodic axis is tiled by whole cells (the last one up to 2x wider), so the
-            # stencil that wraps round still covers the support; it needs 2n + 1 distinct cells
-            dims[d] = int(np.floor((hi[d] - lo[d]) / self.cell_size + 1e-9))
+            # the stencil that wraps round a periodic axis needs 2n + 1 distinct cells
             if dims[d] < 2 * self.n + 1:
                 raise InputError(
                     f"the periodic length {hi[d] - lo[d]:.4g} m along {'xyz'[d] if self.dim == 3 else 'xz'[d]} is "

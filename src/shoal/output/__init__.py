@@ -2,7 +2,6 @@
 
 from shoal.output.plot import plot_particles
 from shoal.output.pvd import PVDWriter, read_pvd
-from shoal.output.pvtu import read_pvtu, write_pvtu
-from shoal.output.vtu import read_vtu, write_vtu
+from shoal.output.vtu import read_pvtu, read_vtu, write_pvtu, write_vtu
 
 __all__ = ["PVDWriter", "plot_particles", "read_pvtu", "read_vtu", "write_pvtu", "write_vtu"]

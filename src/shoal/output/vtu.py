@@ -1,24 +1,38 @@
-"""Particle snapshots as VTK UnstructuredGrid (``.vtu``) files via meshio."""
+"""Particle snapshots as VTK UnstructuredGrid files: ``.vtu`` (via meshio) and ``.pvtu``.
+
+A ``.vtu`` holds one snapshot's particles (`write_vtu`, `read_vtu`). Under
+MPI each rank writes its own particles as a ``.vtu`` piece and rank 0 the
+parallel ``.pvtu`` summary that names the pieces and the point-data arrays
+they hold (`write_pvtu`, `pvtu_layout`), so ParaView (and VTK's
+``vtkXMLPUnstructuredGridReader``) opens the snapshot as one dataset, and a
+``.pvd`` can list ``.pvtu`` files as it lists ``.vtu`` ones. `read_pvtu`
+(also reached through `read_vtu` for a ``.pvtu`` path) reads the pieces
+back, concatenated in piece order.
+"""
 
 from __future__ import annotations
 
 import os
 import shutil
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import meshio
 import numpy as np
 
-__all__ = ["write_vtu", "read_vtu"]
+from .atomic import write_text_atomic
+
+__all__ = ["pvtu_layout", "pvtu_pieces", "read_pvtu", "read_vtu", "write_pvtu", "write_vtu"]
 
 # dtypes that VTK/ParaView readers handle awkwardly (Int8 arrays are shown as
 # characters in some views, bool has no VTK type): widened to int32 on write.
 _WIDEN_TO_INT32 = (np.dtype(np.bool_), np.dtype(np.int8), np.dtype(np.uint8))
 
 
-def _prepare_point_data(point_data, n):
-    """Validate arrays, make them contiguous and convert awkward dtypes."""
+def prepare_point_data(point_data, n):
+    """`point_data` as written to a piece: each array checked for shape ``(n,)`` or ``(n, k)``, made
+    contiguous, and awkward dtypes converted (bool and 8-bit integers to int32, float16 to float32)."""
     prepared = {}
     for name, values in point_data.items():
         arr = np.asarray(values)
@@ -126,7 +140,7 @@ def write_vtu(path, points, point_data, time=None):
         pts = pts.astype(np.float64)
     pts = np.ascontiguousarray(pts)
     n = pts.shape[0]
-    data = _prepare_point_data(point_data, n)
+    data = prepare_point_data(point_data, n)
     cells = [("vertex", np.arange(n, dtype=np.int64).reshape(-1, 1))]
     mesh = meshio.Mesh(pts, cells, point_data=data)
 
@@ -156,7 +170,7 @@ def read_vtu(path):
     ----------
     path : str or os.PathLike
         File written by :func:`write_vtu` (or any point-based ``.vtu``); a
-        ``.pvtu`` (`shoal.output.pvtu`, written by runs on several MPI ranks)
+        ``.pvtu`` (`write_pvtu`, written by runs on several MPI ranks)
         is read as the union of its pieces, in piece order.
 
     Returns
@@ -168,8 +182,6 @@ def read_vtu(path):
         dtypes (``int8``/``uint8``/``bool`` fields come back as ``int32``).
     """
     if os.fspath(path).endswith(".pvtu"):
-        from .pvtu import read_pvtu
-
         return read_pvtu(path)
     try:
         mesh = meshio.read(Path(path), file_format="vtu")
@@ -181,3 +193,110 @@ def read_vtu(path):
         return empty
     point_data = {name: np.asarray(v) for name, v in mesh.point_data.items()}
     return np.asarray(mesh.points), point_data
+
+
+# numpy dtype -> VTK XML type name (meshio's table, which writes the pieces)
+_VTK_TYPES = {np.dtype(t): n for t, n in (
+    (np.float32, "Float32"), (np.float64, "Float64"), (np.int8, "Int8"), (np.int16, "Int16"),
+    (np.int32, "Int32"), (np.int64, "Int64"), (np.uint8, "UInt8"), (np.uint16, "UInt16"),
+    (np.uint32, "UInt32"), (np.uint64, "UInt64"))}
+
+
+def pvtu_layout(points, point_data):
+    """The array layout a piece of `points` and `point_data` has once written by `write_vtu`.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 3)
+        Positions (any N, 0 included: only the dtype matters).
+    point_data : dict of str to array_like
+        Per-particle fields, as given to `write_vtu`.
+
+    Returns
+    -------
+    dict
+        ``{"points": vtk_type, "point_data": [(name, vtk_type, components or None), ...]}``
+        (components None for a one-component array, as meshio writes it).
+    """
+    pts = np.asarray(points)
+    pdt = pts.dtype if pts.dtype.kind == "f" else np.dtype(np.float64)
+    n = pts.shape[0] if pts.ndim == 2 else 0
+    data = prepare_point_data(point_data, n)
+    arrays = [(name, _VTK_TYPES[a.dtype], a.shape[1] if a.ndim == 2 else None) for name, a in data.items()]
+    return {"points": _VTK_TYPES[np.dtype(pdt)], "point_data": arrays}
+
+
+def write_pvtu(path, pieces, layout):
+    """Write the ``.pvtu`` summary of a snapshot's pieces, atomically.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.pvtu`` file.
+    pieces : sequence of str or os.PathLike
+        The piece ``.vtu`` files, relative to the directory of `path` (an
+        absolute path is made relative to it), in rank order.
+    layout : dict
+        `pvtu_layout` of the pieces' arrays (every piece has the same arrays).
+
+    Returns
+    -------
+    Path
+        `path`.
+    """
+    path = Path(path)
+    byte_order = "LittleEndian" if sys.byteorder == "little" else "BigEndian"
+    root = ET.Element("VTKFile", type="PUnstructuredGrid", version="1.0", byte_order=byte_order,
+                      header_type="UInt32")
+    grid = ET.SubElement(root, "PUnstructuredGrid", GhostLevel="0")
+    pd = ET.SubElement(grid, "PPointData")
+    for name, vtk_type, ncomp in layout["point_data"]:
+        da = ET.SubElement(pd, "PDataArray", type=vtk_type, Name=name)
+        if ncomp is not None:
+            da.set("NumberOfComponents", str(ncomp))
+    pp = ET.SubElement(grid, "PPoints")
+    ET.SubElement(pp, "PDataArray", type=layout["points"], Name="Points", NumberOfComponents="3")
+    for piece in pieces:
+        p = Path(piece)
+        if p.is_absolute():
+            p = Path(os.path.relpath(p, path.parent))
+        ET.SubElement(grid, "Piece", Source=p.as_posix())
+    ET.indent(root)
+    return write_text_atomic(path, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n")
+
+
+def pvtu_pieces(path):
+    """The piece files a ``.pvtu`` names, as paths (relative ones resolved from its directory).
+
+    Raises
+    ------
+    ValueError
+        The file is not a PUnstructuredGrid summary.
+    """
+    path = Path(path)
+    root = ET.parse(path).getroot()
+    if root.tag != "VTKFile" or root.get("type") != "PUnstructuredGrid":
+        raise ValueError(f"{path} is not a parallel VTK UnstructuredGrid (.pvtu) file")
+    return [path.parent / piece.get("Source") for piece in root.iterfind("PUnstructuredGrid/Piece")]
+
+
+def read_pvtu(path):
+    """Read every piece of a ``.pvtu`` snapshot, concatenated in piece order.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A file written by `write_pvtu`.
+
+    Returns
+    -------
+    points : numpy.ndarray, shape (N, 3)
+    point_data : dict of str to numpy.ndarray
+        As `read_vtu` returns them, for the union of the pieces.
+    """
+    parts = [read_vtu(p) for p in pvtu_pieces(path)]
+    if not parts:
+        return np.empty((0, 3)), {}
+    points = np.concatenate([p for p, _ in parts])
+    names = parts[0][1].keys()
+    return points, {k: np.concatenate([d[k] for _, d in parts]) for k in names}

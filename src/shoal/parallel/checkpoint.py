@@ -34,7 +34,7 @@ round-off (not bitwise: the pair sums are summed in another order).
 Whichever of the two kinds of checkpoint is newest is resumed.
 
 On one process (``shoal run --resume`` without mpiexec),
-`shoal.simulation.checkpoint.latest_checkpoint` reads the newest complete
+`shoal.simulation.resume.latest_checkpoint` reads the newest complete
 checkpoint of either kind: an MPI one as the same union (`read_union`,
 every rank file verified against the manifest's SHA-256; a damaged or
 missing one: the previous checkpoint, with a warning), which
@@ -53,38 +53,12 @@ import numpy as np
 
 from ..errors import InputError
 from ..output.atomic import write_text_atomic
-from ..simulation.checkpoint import (MPI_MANIFEST, MPI_RANK_FILE, CheckpointError, _fsync_dir, _text, capture,
-                                     list_checkpoints, read_checkpoint, restore_scalars, write_checkpoint)
-
-FORMAT = "shoal-mpi-checkpoint"
-VERSION = 1
-
-
-def rank_path(out_dir, step, rank):
-    """``out_dir/ckpt_NNNNNN.rank<RRRR>.h5``."""
-    return Path(out_dir) / f"ckpt_{int(step):06d}.rank{int(rank):04d}.h5"
-
-
-def manifest_path(out_dir, step):
-    """``out_dir/ckpt_NNNNNN.mpi.json``."""
-    return Path(out_dir) / f"ckpt_{int(step):06d}.mpi.json"
-
-
-def list_manifests(out_dir):
-    """Checkpoint manifests in `out_dir`, newest (highest step) first."""
-    out_dir = Path(out_dir)
-    if not out_dir.is_dir():
-        return []
-    found = [(int(m.group(1)), p) for p in out_dir.iterdir() if (m := MPI_MANIFEST.match(p.name))]
-    return [p for _, p in sorted(found, reverse=True)]
-
-
-def _stored_digest(path):
-    import h5py
-
-    with h5py.File(path, "r") as f:
-        d = f.attrs.get("sha256")
-    return d.decode() if isinstance(d, bytes) else str(d)
+from ..simulation.checkpoint import (MPI_MANIFEST, MPI_RANK_FILE, CheckpointError, capture, fsync_dir, list_checkpoints,
+                                     restore_scalars, utf8_array, write_checkpoint)
+from ..simulation.resume import (MANIFEST_FORMAT, MANIFEST_VERSION, checkpoint_step, latest_checkpoint,
+                                 list_manifests, manifest_path, rank_path, read_manifests, read_rank_file,
+                                 read_union, stored_digest, union_of_single)
+from .collective import CollectiveInputError, collective_check, write_error
 
 
 def capture_rank(sim, case_toml, escaped_bytes=0):
@@ -96,13 +70,13 @@ def capture_rank(sim, case_toml, escaped_bytes=0):
         ds[f"mpi/{k}"] = a
     meta = json.loads(bytes(ds["meta"]).decode("utf-8"))
     meta["mpi"] = dict(scalars, escaped_bytes=int(escaped_bytes))
-    ds["meta"] = _text(json.dumps(meta))
+    ds["meta"] = utf8_array(json.dumps(meta))
     return ds
 
 
 def _write_json(path, obj):
     write_text_atomic(path, json.dumps(obj, indent=1) + "\n")
-    _fsync_dir(path.parent)
+    fsync_dir(path.parent)
 
 
 class MPICheckpointWriter:
@@ -140,7 +114,6 @@ class MPICheckpointWriter:
 
     def write(self, sim):
         """Write a checkpoint of `sim` now (once per step, collective); returns the manifest's path."""
-        from .run import _collective_check, _write_error
 
         if self.last_step == sim.step_count and self.last_path is not None:
             return self.last_path
@@ -154,23 +127,23 @@ class MPICheckpointWriter:
         msg, digest = None, None
         try:
             write_checkpoint(path, capture_rank(sim, self.case_toml, nbytes))
-            digest = _stored_digest(path)
+            digest = stored_digest(path)
         except OSError as err:
-            msg = _write_error(err, path)
-        _collective_check(self.comm, msg)
+            msg = write_error(err, path)
+        collective_check(self.comm, msg)
         digests = self.comm.gather((path.name, digest, path.stat().st_size), root=0)
         man = manifest_path(self.out_dir, sim.step_count)
         msg = None
         if rank == 0:
-            obj = {"format": FORMAT, "version": VERSION, "ranks": size, "step": int(sim.step_count),
+            obj = {"format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "ranks": size, "step": int(sim.step_count),
                    "time": float(sim.time), "cuts": [float(c) for c in sim.model.cuts[1:-1]],
                    "files": [d[0] for d in digests], "sha256": [d[1] for d in digests],
                    "written": _time.strftime("%Y-%m-%dT%H:%M:%S")}
             try:
                 _write_json(man, obj)
             except OSError as err:
-                msg = _write_error(err, man)
-        _collective_check(self.comm, msg)
+                msg = write_error(err, man)
+        collective_check(self.comm, msg)
         self.last_step, self.last_path = sim.step_count, man
         self.written += 1
         if rank == 0:
@@ -212,76 +185,6 @@ class MPICheckpointWriter:
                         pass
 
 
-def read_manifests(out_dir, warn=None):
-    """The checkpoint manifests in `out_dir` that read back, newest first.
-
-    Parameters
-    ----------
-    out_dir : path
-        The run directory.
-    warn : callable, optional
-        ``warn(message)`` for each manifest skipped (unreadable, not JSON,
-        another format or version, fields missing).
-
-    Returns
-    -------
-    list of (Path, dict)
-        Each manifest and its contents.
-    """
-    found = []
-    for p in list_manifests(out_dir):
-        try:
-            obj = json.loads(p.read_text())
-            if obj.get("format") != FORMAT or obj.get("version") != VERSION:
-                raise ValueError(f"not a {FORMAT} version {VERSION} manifest")
-            int(obj["ranks"]), list(obj["files"]), list(obj["sha256"])
-        except (OSError, ValueError, KeyError, TypeError) as err:
-            if warn is not None:
-                warn(f"checkpoint {p} skipped: its manifest cannot be read ({err}); falling back to the "
-                     "previous one")
-            continue
-        found.append((p, obj))
-    return found
-
-
-def read_union(out_dir, manifest, obj, rank=0):
-    """The union of the owned particles of every rank file a manifest names.
-
-    Parameters
-    ----------
-    out_dir : path
-        The run directory.
-    manifest : Path
-        The manifest (``ckpt_NNNNNN.mpi.json``).
-    obj : dict
-        Its contents (`read_manifests`).
-    rank : int, default 0
-        The reading rank: the length of its ``escaped*.csv`` at the
-        checkpoint is kept as ``meta["mpi"]["escaped_bytes"]``.
-
-    Returns
-    -------
-    Checkpoint
-        The owned particles of every rank (never the ghosts) with their
-        integrator state, rank by rank in each rank's order; the probes' and
-        snapshots' state of rank 0's file; ``meta["mpi"]`` marks it for
-        re-distribution (`restore_rank`) or for a single process
-        (`for_one_process`).
-
-    Raises
-    ------
-    CheckpointError
-        A rank file is missing, unreadable, damaged or not the file the
-        manifest names (another SHA-256).
-    """
-    out_dir = Path(out_dir)
-    try:
-        cks = [_read_rank_file(out_dir / f, d, manifest) for f, d in zip(obj["files"], obj["sha256"])]
-    except OSError as err:
-        raise CheckpointError(f"{manifest.name}: a rank file cannot be read ({err.strerror or err})") from None
-    return _from_ranks(cks, manifest, rank)
-
-
 def find_resume(out_dir, comm, warn=None):
     """The newest checkpoint every rank can read (collective).
 
@@ -318,23 +221,21 @@ def find_resume(out_dir, comm, warn=None):
         single = list_checkpoints(out_dir)
         if not found and not single:
             message = f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from"
-        elif single and found and _step(single[0]) > _step(Path(found[0][0])):
+        elif single and found and checkpoint_step(single[0]) > checkpoint_step(Path(found[0][0])):
             found = []  # a single-process checkpoint is the newest state
     found, message = comm.bcast((found, message), root=0)
     if message:
         raise InputError(message)
     if not found:  # a single-process run's checkpoint: re-distributed over the ranks
-        from ..simulation.checkpoint import latest_checkpoint
-
         single = latest_checkpoint(out_dir, warn=warn if rank == 0 else None, mpi=False)  # the same on every rank
-        return single.path, None, _from_single(single, rank)
+        return single.path, None, union_of_single(single, rank)
     for p, obj in found:
         p = Path(p)
         msg, ck = None, None
         try:
             if int(obj["ranks"]) == size:
                 f = out_dir / obj["files"][rank]
-                ck = _read_rank_file(f, obj["sha256"][rank], p)
+                ck = read_rank_file(f, obj["sha256"][rank], p)
                 mpi = ck.meta.get("mpi", {})
                 if mpi.get("rank") != rank or mpi.get("size") != size:
                     raise CheckpointError(f"{f.name} is rank {mpi.get('rank')} of {mpi.get('size')}, not {rank} "
@@ -356,70 +257,8 @@ def find_resume(out_dir, comm, warn=None):
                      "resumed")
 
 
-def _step(path):
-    return int(Path(path).name.split("_")[1].split(".")[0])
-
-
-def _read_rank_file(path, digest, manifest):
-    ck = read_checkpoint(path)
-    if _stored_digest(path) != digest:
-        raise CheckpointError(f"{path.name} is not the file {manifest.name} names (another checksum)")
-    return ck
-
-
-# the per-particle arrays a DistributedModel saves (`checkpoint_arrays`; xsph, tau, vwall when in use)
-_PARTICLE_NAMES = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax", "pr2", "xsph", "tau", "vwall")
-
-
-def _union(path, first, parts, rank, escaped_bytes, n_escaped, sort_count, rebalances, source):
-    """A Checkpoint holding the active particles of every part (``(ck, rows, n_integrator)``),
-    marked for re-distribution over the ranks (`restore_rank` keeps this rank's slab).
-    `escaped_bytes`: the length at the checkpoint of each writer's ``escaped*.csv``
-    (one per rank of the run written, in rank order); this rank's is kept as
-    ``escaped_bytes``."""
-    from ..simulation.checkpoint import Checkpoint
-
-    names = [k for k in _PARTICLE_NAMES if k in first.particles]
-    particles = {k: np.concatenate([c.particles[k][rows] for c, rows, _ in parts]) for k in names}
-    n_int = parts[0][2]
-    extra = [np.concatenate([c.extra[i][rows] for c, rows, _ in parts]) for i in range(n_int)]
-    meta = json.loads(json.dumps(first.meta))
-    meta["model"]["n"] = int(len(particles["pos"]))
-    mine = int(escaped_bytes[rank]) if rank < len(escaped_bytes) else 0
-    meta["mpi"] = {"redistribute": True, "source": source, "n_escaped": int(n_escaped), "sort_count": int(sort_count),
-                   "rebalances": rebalances, "escaped_bytes": mine,
-                   "escaped_bytes_ranks": [int(b) for b in escaped_bytes]}
-    return Checkpoint(Path(path), meta, first.case_toml, particles, extra, first.callbacks, {})
-
-
-def _from_ranks(cks, path, rank):
-    """The union of the owned particles of the rank files `cks` (another rank count)."""
-    parts = [(c, np.flatnonzero(c.extra[-1] == 0), len(c.extra) - 1) for c in cks]  # ghost flags: the last array
-    mpis = [c.meta["mpi"] for c in cks]
-    escaped = [m["escaped_bytes"] for m in mpis]
-    return _union(path, cks[0], parts, rank, escaped, sum(c.meta["model"]["n_escaped"] for c in cks),
-                  mpis[0]["sort_count"], mpis[0].get("rebalances", []), f"{len(cks)} MPI ranks")
-
-
-def _from_single(ck, rank):
-    """The active particles of a single-process checkpoint `ck`, to re-distribute."""
-    n = int(ck.meta["model"]["n"])
-    escaped = 0
-    for cb in ck.meta["callbacks"]:
-        if cb["name"] == "escaped":
-            escaped = int(cb.get("state", {}).get("file_bytes", 0))
-    return _union(ck.path, ck, [(ck, np.arange(n), len(ck.extra))], rank, [escaped], ck.meta["model"]["n_escaped"],
-                  int(ck.meta["step_count"]) + 1, [], "1 process")
-
-
-class CollectiveInputError(InputError):
-    """An InputError every rank raises together."""
-
-    collective = True
-
-
 def _restore_redistributed(sim, ck):
-    """Keep this rank's slab of the union `ck` (`_union`) at cuts computed afresh."""
+    """Keep this rank's slab of the union `ck` (`union_of`) at cuts computed afresh."""
     from ..physics.spec import FLUID
     from ..simulation.checkpoint import Checkpoint
     from .decomposition import slab_cuts

@@ -92,6 +92,7 @@ from ..model import Model
 from ..options import SPHOptions
 from ..physics.spec import FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING
 from . import halo as _halo
+from .collective import CollectiveError
 from .decomposition import distributed_cuts, imbalance, slab_cuts, weighted_counts
 
 BOUNDARY_WEIGHT = 0.25
@@ -141,12 +142,6 @@ def rebalance_settings(interval=None, threshold=None, environ=None):
     if not (math.isfinite(float(threshold)) and float(threshold) >= 1.0):
         raise InputError(f"rebalance threshold {threshold!r}: give a number >= 1 (max / mean weighted particle count)")
     return int(interval), float(threshold)
-
-
-class CollectiveError(InstabilityError):
-    """An InstabilityError every rank raises together (a collective check)."""
-
-    collective = True
 
 
 class DistributedModel(Model):

@@ -62,10 +62,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
+from ..version import __version__
 from ..errors import InputError, InstabilityError, OutputError, RunInterrupted
 from .decomposition import imbalance, weighted_counts
-from .model import CollectiveError
+from .collective import CollectiveError, agree, collective_check, write_error
 
 EXIT_STATUS = {InputError: 2, InstabilityError: 3, OutputError: 4}
 
@@ -89,36 +89,6 @@ def abort(comm, err):
         sys.__stderr__.flush()
     finally:
         comm.Abort(_status(err))
-
-
-def _agree(comm, message):
-    """Raise InputError(message of rank 0) on every rank when rank 0 found one."""
-    message = comm.bcast(message, root=0)
-    if message:
-        raise InputError(message)
-
-
-class CollectiveOutputError(OutputError):
-    """An OutputError every rank raises together (a write failed on some rank)."""
-
-    collective = True
-
-
-def _write_error(err, path):
-    """One line for a failed write of `path` (`OSError` `err`)."""
-    from ..simulation.resources import DISK_FULL, disk_full_message
-
-    if err.errno in DISK_FULL:
-        return disk_full_message(err, path.parent)
-    return f"cannot write {path}: {err.strerror or err}"
-
-
-def _collective_check(comm, message):
-    """Raise CollectiveOutputError on every rank when any rank passes a message (the first rank's)."""
-    msgs = comm.allgather(message)
-    for r, m in enumerate(msgs):
-        if m:
-            raise CollectiveOutputError(f"{m} (MPI rank {r})")
 
 
 SNAPSHOT_MODES = ("pieces", "gather")
@@ -208,17 +178,17 @@ class _Snapshots:
                 try:
                     self.pvd.add(time, path.name)
                 except OSError as err:
-                    msg = _write_error(err, self.pvd.path)
-                _collective_check(self.comm, msg)
+                    msg = write_error(err, self.pvd.path)
+                collective_check(self.comm, msg)
             else:
-                _collective_check(self.comm, None)
+                collective_check(self.comm, None)
             self.count += 1
             self.last_time = time
         return path
 
     def _write_pieces(self, model, time, base, path):
         from ..output import write_pvtu, write_vtu
-        from ..output.pvtu import pvtu_layout
+        from ..output.vtu import pvtu_layout
 
         pos, fields = model.world_positions(), model.fields()
         piece = self.directory / base / f"{base}_{self.rank}.vtu"
@@ -227,15 +197,15 @@ class _Snapshots:
             piece.parent.mkdir(exist_ok=True)
             write_vtu(piece, pos, fields, time=time)
         except OSError as err:
-            msg = _write_error(err, piece)
-        _collective_check(self.comm, msg)
+            msg = write_error(err, piece)
+        collective_check(self.comm, msg)
         msg = None
         if self.rank == 0:
             try:
                 write_pvtu(path, [f"{base}/{base}_{r}.vtu" for r in range(self.size)], pvtu_layout(pos, fields))
             except OSError as err:
-                msg = _write_error(err, path)
-        _collective_check(self.comm, msg)
+                msg = write_error(err, path)
+        collective_check(self.comm, msg)
 
     def _write_gathered(self, model, time, path):
         from ..output import write_vtu
@@ -246,8 +216,8 @@ class _Snapshots:
             try:
                 write_vtu(path, data[0], data[1], time=time)
             except OSError as err:
-                msg = _write_error(err, path)
-        _collective_check(self.comm, msg)
+                msg = write_error(err, path)
+        collective_check(self.comm, msg)
 
 
 def _escaped_recorder(out_dir, model, rank, resume_bytes=None):
@@ -285,7 +255,7 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
     try:
         msg = None
         if rank == 0:
-            from ..simulation.resources import check_memory
+            from ..memory import check_memory
 
             try:
                 snapshot_mode()
@@ -300,19 +270,19 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
                 out_dir.mkdir(parents=True, exist_ok=True)
                 if not resume:
                     from ..advice import wave_scheme_warnings
-                    from ..runner import _warn
+                    from ..simulation.run_log import print_warning
 
                     for w in wave_scheme_warnings(case):
-                        _warn(w)
+                        print_warning(w)
             except InputError as err:
                 msg = str(err)
             except OSError as err:
                 msg = f"cannot write to the output directory {out_dir}: {err.strerror or err}"
-        _agree(comm, msg)
+        agree(comm, msg)
         resume_point = None
         if resume:
             resume_point = _resume_point(case, out_dir, comm)  # InputError on every rank alike
-        from ..runner import build_model
+        from ..build import build_model
 
         model = build_model(case, backend)  # a DistributedModel: deterministic errors, raised on every rank
         started = True
@@ -331,17 +301,18 @@ def _resume_point(case, out_dir, comm):
     the manifest (or the single-process checkpoint re-distributed), the checkpoint this rank's
     file (or the union to re-distribute) (collective; InputError on every rank alike: no usable
     checkpoint, another case, a finished run)."""
-    from ..runner import _same_case, _warn
+    from ..simulation.resume import check_same_case
+    from ..simulation.run_log import print_warning
     from .checkpoint import find_resume
 
     warnings = []
 
     def warn(msg):
-        _warn(msg)
+        print_warning(msg)
         warnings.append(msg)
 
     man, obj, ck = find_resume(out_dir, comm, warn=warn)
-    _same_case(case, ck)
+    check_same_case(case, ck)
     if ck.time >= case.end_time * (1 - 1e-12):
         raise InputError(f"the run in {out_dir} is complete (checkpoint {man.name} at t = {ck.time:.6g} s, "
                          f"end_time = {case.end_time:g} s); give a later --end-time to extend it")
@@ -350,7 +321,7 @@ def _resume_point(case, out_dir, comm):
 
 def _checkpoint_schedule(cfg, comm):
     """The single-process checkpoint schedule, its wall-clock part decided by rank 0."""
-    from ..runner import _checkpoint_schedule as single
+    from ..simulation.schedules import checkpoint_schedule as single
     from ..simulation.schedules import WallTimeInterval
     from .checkpoint import CollectiveSchedule
 
@@ -369,7 +340,8 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
 
     from ..casefile import dumps_case, write_case
     from ..probes import make_recorder
-    from ..runner import RunResult, _close_log, _logger, _Progress, run_summary
+    from ..simulation.run_log import ProgressBar, close_run_log, open_run_log
+    from ..simulation.run_result import RunResult, run_summary
     from ..simulation import IterationInterval, Simulation, TimeInterval
     from ..simulation.checkpoint import clear_checkpoints, restore_recorders, set_aside_csvs, set_aside_newer
     from .checkpoint import MPICheckpointWriter, cut_escaped_files, restore_rank
@@ -386,7 +358,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
             set_aside_newer(out_dir, ck.step)
         write_case(case, out_dir / "case.toml")
     if rank == 0 and ck is not None:
-        log = _logger(out_dir, append=True)
+        log = open_run_log(out_dir, append=True)
         for w in warnings:
             log.warning("%s", w)
     elif rank == 0:
@@ -400,7 +372,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         if model.gpus is not None:
             resolved["mpi"]["gpus"] = model.gpus
         (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
-        log = _logger(out_dir)
+        log = open_run_log(out_dir)
         log.info("case %s: %s", case.name, case.description)
         log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d MPI ranks x %d threads, %s; "
                  "slab cuts x = %s m, halo %.4g m", model.n_global, case.n_fluid, case.dp, model.h, model.c0,
@@ -425,7 +397,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
     writer = _Snapshots(out_dir, case.name, comm, snapshot_mode(), resume=ck is not None)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
-    bar = _Progress(case.end_time, progress and rank == 0)
+    bar = ProgressBar(case.end_time, progress and rank == 0)
     sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False), name="progress")
     n_fluid0 = case.n_fluid
 
@@ -503,7 +475,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         if log is not None:
             kept = f"; last checkpoint kept: {ckw.last_path.name}" if ckw.last_path is not None else ""
             log.error("%s; bad state written to %s%s", err, path.name, kept)
-            _close_log(log)
+            close_run_log(log)
         raise CollectiveError(f"{err} (state written to {path or out_dir})") from None
     finally:
         bar.stop()
@@ -521,7 +493,7 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                f"--resume {out_dir}")
         if log is not None:
             log.warning("%s", msg)
-            _close_log(log)
+            close_run_log(log)
         raise RunInterrupted(msg, signum, final)
     wall = _time.perf_counter() - t0
     comm_max = model.allreduce(model.comm_seconds, "max")
@@ -557,5 +529,5 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
         log.info("memory per rank, %s arrays (particle, work, grid): %s", "device" if backend == "cuda" else "host",
                  "; ".join(f"rank {r}: {rows} rows, {nb / 2**20:.1f} MiB ({nb / max(own, 1):.0f} B per owned particle), "
                            f"{k} re-size(s)" for r, ((rows, nb, k), own) in enumerate(zip(memory, owned_counts))))
-        _close_log(log)
+        close_run_log(log)
     return result

@@ -15,6 +15,8 @@ from .density_diffusion import make_density_diffusion
 from .eos import make_eos
 from .forces import make_wall_force
 from .filters import make_filters
+from .free_surface import make_free_surface
+from .interpolation import make_probe, make_sensor_moments
 from .kernels import make_kernels
 from .rates import make_rates
 from .spec import FIXED, FLUID, MOVING, Params, SchemeSpec, make_params, make_unpack
@@ -30,7 +32,7 @@ __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIX
 
 def _source_hash():
     """Hash of the kernel source files (physics, neighbours, timestepping,
-    backends, probe kernels): part of every compiled function's cache
+    backends): part of every compiled function's cache
     identity, so that editing any module a kernel inlines (not only the file
     that defines the outer loop, which is all Numba's cache checks)
     recompiles instead of loading a stale kernel."""
@@ -39,7 +41,6 @@ def _source_hash():
 
     root = Path(__file__).resolve().parent.parent
     files = [f for d in ("physics", "neighbours", "timestepping", "backends") for f in (root / d).rglob("*.py")]
-    files += [root / "probes" / "interpolate.py", root / "probes" / "free_surface.py"]
     h = hashlib.sha1()
     for f in sorted(files):
         h.update(f.relative_to(root).as_posix().encode())
@@ -94,12 +95,8 @@ def build_physics(jit, spec, target="cpu"):
     particle_wall_pressure = make_wall_pressure(j, spec, (w, grad_factor), pressure, make_gather, unpack)
     particle_mdbc = make_mdbc(j, spec, (w, grad_factor), make_point_gather, unpack)
     particle_wall_force = make_wall_force(j, spec, (w, grad_factor), viscous, make_gather, unpack)
-    from ..probes.interpolate import make_probe, make_sensor_moments
-
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     sensor_moments = make_sensor_moments(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
-    from ..probes.free_surface import make_free_surface
-
     wet_walls, free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,

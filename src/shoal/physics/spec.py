@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .eos import tait_coefficient
+
 FLUID, FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING = 0, 1, 2, 3, 4
 """Particle kinds: fluid; dynamic boundary particles, fixed or moving; repulsive
 (Monaghan & Kajtar 2009) boundary particles, fixed or moving (kind >= REPULSIVE)."""
@@ -193,7 +195,7 @@ def make_params(spec, *, dp, h, rho0, c0, gamma, gravity, options, mass_f, mass_
     size (`CellGrid`; in 2D, x and z are used): the gather trims its rows with them."""
     F = spec.float_type
     aw = kernel_normalisation(spec.kernel, spec.dim, h)
-    B = c0 * c0 * rho0 / gamma
+    B = tait_coefficient(c0, rho0, gamma)
     # gradient: grad W = (dW/dr / r) r_ij = aw/h^2 * (dW/dq / q) r_ij
     agrad = aw / (h * h)
     qdp = dp / h

@@ -30,6 +30,7 @@ condition for smoothed particle hydrodynamics", J. Comput. Phys. 231
 (2012) 7057-7075.
 """
 
+from .eos import GAMMA
 from .spec import FLUID, MOVING, REPULSIVE
 
 
@@ -44,7 +45,7 @@ def make_wall_pressure(jit, spec, kernels, pressure, make_gather, unpack):
     F = spec.float_type
     dim = spec.dim
     zero, one = F(0.0), F(1.0)
-    inv_gamma = F(1.0 / 7.0)
+    inv_gamma = F(1.0 / GAMMA)
     w, _ = kernels
 
     @jit

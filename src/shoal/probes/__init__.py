@@ -628,7 +628,7 @@ class ForceRecorder:
         names = getattr(model, "body_names", None)
         if model.body_of is None or not names:
             raise InputError(f"force gauge {spec.name!r}: the model was not built from a case (no solids to "
-                             "measure); use shoal.runner.build_model")
+                             "measure); use shoal.build.build_model")
         self.body = names.index(spec.solid)
         self.path = Path(out_dir) / f"force_{spec.name}.csv"
         self.file = open(self.path, "w", newline="")

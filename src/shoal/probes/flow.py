@@ -30,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .recorder_state import recorder_state, restore_recorder_files
+
 AXES = {"x": 0, "y": 1, "z": 2}
 
 
@@ -181,8 +183,6 @@ class FlowRecorder:
         self.file.flush()
 
     def checkpoint_state(self):
-        from ..simulation.checkpoint import recorder_state
-
         state = recorder_state(self)
         state["volume"] = float(self.volume)
         if math.isfinite(self.t_prev):
@@ -192,8 +192,6 @@ class FlowRecorder:
         return state
 
     def restore_checkpoint_state(self, scalars, arrays, backup=None):
-        from ..simulation.checkpoint import restore_recorder_files
-
         restore_recorder_files(self, scalars, arrays, backup)
         self.volume = float(scalars.get("volume", 0.0))
         self.t_prev = float(scalars.get("t_prev", math.nan))

@@ -83,7 +83,7 @@ def fit_pressure(moments, dim, h, rho0, gravity, method="hydrostatic", kernel_su
     Parameters
     ----------
     moments : (M, 14) or (M, 9) array
-        The sums of `shoal.probes.interpolate.make_sensor_moments` (3D or 2D).
+        The sums of `shoal.physics.interpolation.make_sensor_moments` (3D or 2D).
     dim : int
     h : float
         Smoothing length [m] (the offsets of the moments are scaled by 1/h).

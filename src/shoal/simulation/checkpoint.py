@@ -35,7 +35,7 @@ so they carry no state of their own.
 A run on several MPI ranks writes one such file per rank,
 ``ckpt_NNNNNN.rank<RRRR>.h5``, and a manifest ``ckpt_NNNNNN.mpi.json``
 (`shoal.parallel.checkpoint`); `capture` saves a rank's active rows.
-`latest_checkpoint` picks the newest checkpoint of either kind; a run on
+`shoal.simulation.resume.latest_checkpoint` picks the newest checkpoint of either kind; a run on
 several ranks comes back as the union of the ranks' owned particles, which
 a single-process run continues from
 (`shoal.parallel.checkpoint.for_one_process`).
@@ -54,11 +54,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, ShoalError
+from ..errors import ShoalError
+from ..probes.recorder_state import recorder_state, restore_recorder_files
 
 FORMAT = "shoal-checkpoint"
 VERSION = 1
-_NAME = re.compile(r"^ckpt_(\d+)\.h5$")
+CHECKPOINT_NAME = re.compile(r"^ckpt_(\d+)\.h5$")
 
 
 class CheckpointError(ShoalError):
@@ -120,7 +121,7 @@ def list_checkpoints(out_dir):
         return []
     found = []
     for p in out_dir.iterdir():
-        m = _NAME.match(p.name)
+        m = CHECKPOINT_NAME.match(p.name)
         if m:
             found.append((int(m.group(1)), p))
     return [p for _, p in sorted(found, reverse=True)]
@@ -230,34 +231,6 @@ def callback_state(func):
     return scalars, arrays
 
 
-def recorder_state(func):
-    """The state a probe recorder keeps in its attributes (see `callback_state`), as one dict;
-    a recorder with more state calls it from its ``checkpoint_state``."""
-    state = {}
-    f = getattr(func, "file", None)
-    path = getattr(func, "path", None)
-    if f is not None and path is not None and not getattr(f, "closed", True):
-        f.flush()
-        state["file_bytes"] = int(os.fstat(f.fileno()).st_size)
-        state["file_name"] = Path(path).name
-    rows = getattr(func, "rows", None)
-    if isinstance(rows, list):
-        state["n_rows"] = len(rows)
-        if rows:
-            state["rows"] = np.asarray(rows, dtype=np.float64)
-    times = getattr(func, "times", None)
-    samples = getattr(func, "samples", None)
-    if isinstance(times, list) and isinstance(samples, list):
-        state["times"] = np.asarray(times, dtype=np.float64)
-        for key in (samples[0] if samples else {}):
-            state[f"samples/{key}"] = np.stack([np.asarray(s[key]) for s in samples])
-        state["sample_keys"] = list(samples[0]) if samples else []
-    ids = getattr(func, "ids", None)
-    if isinstance(ids, np.ndarray):
-        state["ids"] = ids
-    return state
-
-
 def _digest(datasets):
     h = hashlib.sha256()
     for name in sorted(datasets):
@@ -269,7 +242,8 @@ def _digest(datasets):
     return h.hexdigest()
 
 
-def _text(s):
+def utf8_array(s):
+    """`s` as a uint8 array of its UTF-8 bytes (how text is stored in a checkpoint)."""
     return np.frombuffer(s.encode("utf-8"), dtype=np.uint8)
 
 
@@ -288,7 +262,7 @@ def capture(sim, case_toml, particles=None, rows=None):
         arrays (default: every row). A rank of an MPI run saves its active
         rows (`shoal.parallel.checkpoint`).
     """
-    from .. import __version__
+    from ..version import __version__
 
     m = sim.model
     ds = {}
@@ -318,13 +292,14 @@ def capture(sim, case_toml, particles=None, rows=None):
         "callbacks": cbs,
         "written": _time.strftime("%Y-%m-%dT%H:%M:%S"),
     }
-    ds["meta"] = _text(json.dumps(meta))
-    ds["case_toml"] = _text(case_toml)
+    ds["meta"] = utf8_array(json.dumps(meta))
+    ds["case_toml"] = utf8_array(case_toml)
     return ds
 
 
 # ------------------------------------------------------------------ writing
-def _fsync_dir(path):
+def fsync_dir(path):
+    """fsync the directory `path` (so a rename in it is on disk); a file system that refuses is left be."""
     try:
         fd = os.open(path, os.O_RDONLY)
     except OSError:
@@ -366,7 +341,7 @@ def write_checkpoint(path, datasets):
         except OSError:
             pass
         raise
-    _fsync_dir(path.parent)
+    fsync_dir(path.parent)
     return path
 
 
@@ -422,59 +397,6 @@ def read_checkpoint(path):
 
 MPI_MANIFEST = re.compile(r"^ckpt_(\d+)\.mpi\.json$")
 MPI_RANK_FILE = re.compile(r"^ckpt_(\d+)\.rank(\d+)\.h5$")
-
-
-def latest_checkpoint(out_dir, warn=None, mpi=True):
-    """The newest usable checkpoint in `out_dir`.
-
-    Parameters
-    ----------
-    out_dir : path
-        The run directory.
-    warn : callable, optional
-        ``warn(message)``: one line for each checkpoint skipped (it does not
-        read back or verify) before the previous one is tried.
-    mpi : bool, default True
-        Also consider the checkpoints of a run on several MPI ranks (the
-        manifests ``ckpt_NNNNNN.mpi.json``, `shoal.parallel.checkpoint`);
-        whichever kind is newest (the highest step; a single-process one on
-        a tie) is read.
-
-    Returns
-    -------
-    Checkpoint
-        A single-process checkpoint, or the union of the owned particles of
-        a run on several ranks (every rank file verified against the
-        manifest's SHA-256; ``meta["mpi"]["redistribute"]`` is true, see
-        `shoal.parallel.checkpoint.read_union`).
-
-    Raises
-    ------
-    InputError
-        No checkpoint, or none that reads back and verifies.
-    """
-    candidates = [(int(_NAME.match(p.name).group(1)), 1, p, None) for p in list_checkpoints(out_dir)]
-    if mpi:
-        from ..parallel.checkpoint import read_manifests
-
-        candidates += [(int(MPI_MANIFEST.match(p.name).group(1)), 0, p, obj)
-                       for p, obj in read_manifests(out_dir, warn)]
-    if not candidates:
-        kinds = "ckpt_NNNNNN.h5 or ckpt_NNNNNN.mpi.json" if mpi else "ckpt_NNNNNN.h5"
-        raise InputError(f"{out_dir} holds no checkpoint ({kinds}) to resume from")
-    candidates.sort(key=lambda c: c[:2], reverse=True)
-    for _, _, p, obj in candidates:
-        try:
-            if obj is None:
-                return read_checkpoint(p)
-            from ..parallel.checkpoint import read_union
-
-            return read_union(out_dir, p, obj)
-        except CheckpointError as err:
-            if warn is not None:
-                warn(f"checkpoint {p} skipped: {err}; falling back to the previous one")
-    raise InputError(f"none of the {len(candidates)} checkpoints in {out_dir} is readable "
-                     f"({', '.join(c[2].name for c in candidates)}); the run cannot be resumed")
 
 
 # ------------------------------------------------------------------ restore
@@ -553,12 +475,6 @@ def callback_saved_state(ck, index, name):
     return saved[index].get("state", {}), ck.callbacks.get(index, {})
 
 
-def _head(path, n_bytes=None):
-    """The first `n_bytes` bytes of file `path` (all of it if None)."""
-    with open(path, "rb") as f:
-        return f.read() if n_bytes is None else f.read(n_bytes)
-
-
 def set_aside(path):
     """Rename `path` to ``path.resume`` before a recorder re-creates it (a
     crash mid-restart keeps the data there; a later restart reads it back).
@@ -588,38 +504,6 @@ def restore_recorder(rec, scalars, arrays, backup=None):
     if hasattr(rec, "restore_checkpoint_state"):
         return rec.restore_checkpoint_state(scalars, arrays, backup)
     return restore_recorder_files(rec, scalars, arrays, backup)
-
-
-def restore_recorder_files(rec, scalars, arrays, backup=None):
-    """`restore_recorder` for the state of `recorder_state`: the CSV cut back to its length at
-    the checkpoint, the rows, samples and ids; returns the warning (or None)."""
-    warning = None
-    f = getattr(rec, "file", None)
-    if f is not None and backup is not None and Path(backup).exists():
-        # the bytes the file held at the checkpoint (rows written after it are dropped)
-        n = int(scalars["file_bytes"]) if "file_bytes" in scalars else None
-        data = _head(backup, n)
-        if n is not None and len(data) < n:
-            data = data[: data.rfind(b"\n") + 1]
-            warning = (f"{Path(rec.path).name} held {len(data)} bytes, fewer than the {n} it held at the "
-                       "checkpoint: rows recorded before the checkpoint were lost by the system")
-        f.flush()
-        f.seek(0)
-        f.truncate()
-        f.write(data.decode("utf-8"))
-        f.flush()
-        os.fsync(f.fileno())
-    if isinstance(getattr(rec, "rows", None), list):
-        rows = arrays.get("rows")
-        rec.rows[:] = [] if rows is None else [list(map(float, r)) for r in rows]
-    if "times" in arrays and isinstance(getattr(rec, "samples", None), list):
-        keys = scalars.get("sample_keys", [])
-        times = arrays["times"]
-        rec.times[:] = [float(t) for t in times]
-        rec.samples[:] = [{k: arrays[f"samples/{k}"][i] for k in keys} for i in range(len(times))]
-    if "ids" in arrays and isinstance(getattr(rec, "ids", None), np.ndarray):
-        rec.ids = arrays["ids"]
-    return warning
 
 
 def set_aside_csvs(out_dir, skip=()):
@@ -753,7 +637,7 @@ def clear_checkpoints(out_dir):
     if not out_dir.is_dir():
         return
     for p in out_dir.iterdir():
-        if _NAME.match(p.name) or re.match(r"^ckpt_\d+\.h5\.(tmp|bad)$", p.name) or p.name.endswith(".csv.resume"):
+        if CHECKPOINT_NAME.match(p.name) or re.match(r"^ckpt_\d+\.h5\.(tmp|bad)$", p.name) or p.name.endswith(".csv.resume"):
             p.unlink()
         elif re.match(r"^ckpt_\d+\.(mpi\.json|rank\d+\.h5)(\.tmp|\.bad)?$", p.name):
             p.unlink()  # a run on several MPI ranks (shoal.parallel.checkpoint)
@@ -775,7 +659,7 @@ def set_aside_newer(out_dir, step):
     """
     step = step.step if isinstance(step, Checkpoint) else int(step)
     for p in Path(out_dir).iterdir():
-        m = _NAME.match(p.name) or MPI_MANIFEST.match(p.name) or MPI_RANK_FILE.match(p.name)
+        m = CHECKPOINT_NAME.match(p.name) or MPI_MANIFEST.match(p.name) or MPI_RANK_FILE.match(p.name)
         if m and int(m.group(1)) > step:
             os.replace(p, p.with_name(p.name + ".bad"))
         elif re.match(r"^ckpt_\d+\.(h5|mpi\.json|rank\d+\.h5)\.tmp$", p.name):

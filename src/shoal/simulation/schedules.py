@@ -128,3 +128,14 @@ class AnyOf:
     def set_state(self, state):
         for s, st in zip(self.schedules, state.get("schedules", [])):
             s.set_state(st)
+
+
+def checkpoint_schedule(cfg):
+    """When a run writes checkpoints: every `cfg.interval` s of simulated time (never shortening a
+    step) and every `cfg.wall_interval` s of wall-clock time, whichever comes first (0: not)."""
+    parts = []
+    if cfg.interval > 0:
+        parts.append(TimeInterval(cfg.interval, start=cfg.interval, exact=False))  # never shortens a step
+    if cfg.wall_interval > 0:
+        parts.append(WallTimeInterval(cfg.wall_interval))
+    return AnyOf(*parts)

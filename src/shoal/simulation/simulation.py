@@ -47,7 +47,7 @@ class Simulation:
 
         self.damping = []
         if isinstance(model, Case):
-            from ..runner import build_model
+            from ..build import build_model
 
             self.case = model
             self.damping = list(model.damping)

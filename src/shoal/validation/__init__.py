@@ -18,7 +18,6 @@ import time
 import traceback
 from pathlib import Path
 
-from ..errors import InputError
 from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .core import (CaseResult, Metric, PendingCase, ValidationCase, find_validation_dir, machine_text, source_state,
@@ -27,6 +26,7 @@ from .dam_break import DamBreak2D
 from .hydrostatic import Hydrostatic
 from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
+from .registry import VALIDATION_CASES, get_cases
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .spheric_test2 import SphericTest2
@@ -36,47 +36,6 @@ __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", 
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "PendingCase",
            "find_validation_dir"]
-
-
-
-def _all_cases():
-    return [
-        Hydrostatic(),
-        Poiseuille(),
-        DamBreak2D(),
-        TidalBores(),
-        UndularAmplitude(),
-        ResolutionStudy(),
-        RipCurrent(),
-        SphericTest2(),
-        WaveFlume(),
-        PeriodicRunup(),
-        BridgePiers(),
-    ]
-
-
-VALIDATION_CASES = {c.name: c for c in _all_cases()}
-"""The validation cases by name, in report order."""
-
-
-def get_cases(names=None):
-    """The validation cases named (all of them, in report order, when `names` is empty).
-
-    Raises
-    ------
-    InputError
-        An unknown name (the message lists the known ones).
-    """
-    if not names:
-        return list(VALIDATION_CASES.values())
-    out = []
-    for n in names:
-        if n not in VALIDATION_CASES:
-            raise InputError(f"unknown validation case {n!r}; cases: {', '.join(VALIDATION_CASES)}")
-        if VALIDATION_CASES[n] not in out:
-            out.append(VALIDATION_CASES[n])
-    return out
-
 
 QUICK_SET_LIMIT = 600.0
 """A case whose quick run takes longer than this [s] (its `cost`) is left out of the default quick set

@@ -51,7 +51,7 @@ class Hydrostatic(ValidationCase):
     def run(self, quick, backend, out):
         from ..cases import still_water_2d
         from ..physics.spec import FLUID
-        from ..runner import build_model
+        from ..build import build_model
         from ..simulation import Simulation, TimeInterval
 
         res = self.new_result(quick, backend, out)

@@ -79,7 +79,7 @@ def start_at_rest(model, wave, depth, shore):
     """Give the fluid particles the hydrostatic density under the rundown surface, rho0 (1 + rho0 g
     (z_s - z) / B)^(1/7) with z_s = depth + `wave.rundown_surface` at their offshore distance (the
     model's initial density is that of a flat surface at `depth`); they are at rest as the wave is."""
-    from ..physics.eos import GAMMA
+    from ..physics.eos import density_of
 
     fluid = model.host(model.kind) == 0
     p = model.world_positions()[fluid]
@@ -87,7 +87,7 @@ def start_at_rest(model, wave, depth, shore):
     rho = model.host(model.rho)
     under = np.clip(z_s - p[:, 2], 0.0, None)
     g = float(np.linalg.norm(model.gravity))
-    rho[fluid] = model.rho0 * (1.0 + model.rho0 * g * under / model.B) ** (1.0 / GAMMA)
+    rho[fluid] = density_of(model.rho0 * g * under, model.rho0, model.B)
     model.backend.copy_into(model.rho, rho.astype(model.dtype), model.n)
 
 
@@ -104,7 +104,7 @@ def run_periodic_runup(wave, depth, cot, dp, options, periods, folder, backend="
         X_offshore [m], steps, particles, seconds.
     """
     from ..probes import make_recorder
-    from ..runner import build_model
+    from ..build import build_model
     from ..simulation import Simulation, TimeInterval
 
     t0 = time.perf_counter()

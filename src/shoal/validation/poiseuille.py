@@ -69,7 +69,7 @@ class Poiseuille(ValidationCase):
         return 20 if quick else 40
 
     def run(self, quick, backend, out):
-        from ..runner import build_model
+        from ..build import build_model
         from ..simulation import Simulation
 
         res = self.new_result(quick, backend, out)

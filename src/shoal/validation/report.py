@@ -224,8 +224,8 @@ def results_from_json(path):
     another case says so). An entry without ``commit`` / ``measured`` (written before they were
     recorded) keeps None: the report says "not recorded".
     """
-    from . import VALIDATION_CASES
     from .core import CaseResult, Metric
+    from .registry import VALIDATION_CASES
 
     path = Path(path)
     try:
@@ -265,7 +265,7 @@ def results_from_json(path):
 
 def _compare_again(r):
     """Re-run the comparison of a saved entry from its saved records, where its case can load them."""
-    from . import VALIDATION_CASES
+    from .registry import VALIDATION_CASES
 
     case = VALIDATION_CASES.get(r.case)
     if r.status != "run" or case is None or not hasattr(case, "load_saved"):
@@ -317,7 +317,7 @@ def merge_reports(sources, out, cases=None, command=None):
     """
     import shutil
 
-    from . import VALIDATION_CASES
+    from .registry import VALIDATION_CASES
 
     out = Path(out)
     merged = {}

@@ -54,7 +54,7 @@ def dam_break_front(n_per_a, backend="cpu", t_end_T=3.3):
         return _CACHE[key]
     from ..analysis import surge_front
     from ..cases import dam_break_2d
-    from ..runner import build_model
+    from ..build import build_model
     from ..simulation import Simulation, TimeInterval
 
     t0 = time.perf_counter()

@@ -16,7 +16,7 @@ sum V u W [, sum V v W], sum V w W) in the working precision; the host
 divides (Shepard) or not (plain).
 """
 
-from ..physics.spec import FLUID
+from .spec import FLUID
 
 
 def n_probe_columns(dim):

@@ -25,7 +25,7 @@ top particle next to a side wall went either way (64 of the 100 top particles
 of a 3D tank were flagged before this).
 """
 
-from ..physics.spec import FLUID
+from .spec import FLUID
 
 
 def make_free_surface(jit, spec, kernels, make_gather, unpack):
