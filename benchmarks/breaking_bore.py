@@ -2,8 +2,8 @@
 
 Runs the x-z section of `tidal-bore` (d0 = 0.1 m, U = 0.7 m/s: Belanger c = 0.873 m/s, d1 = 0.180 m,
 Fr = 1.59) with the paper's scheme and alpha = 0.02 (the scheme under which the 2D front breaks;
-`tests/test_tidal_bore.py::LOW_ALPHA`) in a flume `--length` metres long, with wave gauges every 0.5 m,
-and prints
+`tests/test_tidal_bore.py::LOW_ALPHA`) in a flume `--length` metres long, with wave gauges every 0.5 m
+(`--gauge-every`), and prints
 
 - the front's arrival at each gauge (the level half-way between d0 and d1) and its speed over each span;
 - the least-squares celerity over all gauges and over the gauges from `--settled` metres on (the front
@@ -26,6 +26,8 @@ run ends at `--t-end` (default 0.95 L / (U + c)) and gauges beyond the meeting p
 
     python benchmarks/breaking_bore.py --dp 0.01 --length 5      # d0/10, about 5 min on 2 threads
     python benchmarks/breaking_bore.py --dp 0.005 --length 5     # d0/20, 51 min on 2 threads
+    python benchmarks/breaking_bore.py --dp 0.02 --length 1 --t-end 0.35 --gauge-every 0.1 --settled 0.1
+                                                                  # a smoke test: seconds
 
 Writes the measures as JSON to stdout (and to `--json FILE`).
 """
@@ -70,6 +72,9 @@ def main(argv=None):
     p.add_argument("--options", type=json.loads, default={},
                    help='other SPHOptions as JSON over the paper scheme, e.g. \'{"mls_every": 0}\'')
     p.add_argument("--settled", type=float, default=1.0, help="celerity from gauges at x >= this [m]")
+    p.add_argument("--gauge-every", type=float, default=0.5,
+                   help="wave gauges every this many metres from the gate [m] (0.5; a smoke test's short run "
+                        "takes 0.1 with --length 1 --t-end 0.35)")
     p.add_argument("--t-end", type=float, default=None, help="end time [s] (default 0.95 L / (U + c))")
     p.add_argument("--snap", type=float, default=0.1, help="snapshot interval for the breaking index and the "
                    "volume depth [s]")
@@ -81,11 +86,13 @@ def main(argv=None):
     p.add_argument("--reuse", action="store_true", help="measure the finished run in --keep again, without running")
     a = p.parse_args(argv)
     d0 = 0.1
+    if not a.gauge_every > 0:
+        raise InputError(f"--gauge-every {a.gauge_every:g}: must be a positive distance [m]")
     c_ref, d1, fr = bore_from_inflow(a.U, d0)
     t_meet = a.length / (a.U + c_ref)
     t_end = a.t_end if a.t_end is not None else 0.95 * t_meet
     x_meet = c_ref * t_end
-    gauges = [x for x in np.arange(0.5, a.length, 0.5) if x < x_meet - 0.1]
+    gauges = [float(x) for x in np.round(np.arange(a.gauge_every, a.length, a.gauge_every), 6) if x < x_meet - 0.1]
     if len(gauges) < 2:
         raise InputError(f"a {a.length:g} m flume to t = {t_end:g} s leaves fewer than two gauges; lengthen it")
     opts = SPHOptions(**dict(PAPER_OPTIONS, alpha=a.alpha, **a.options))

@@ -18,6 +18,7 @@ on 1:20, 0.063 on 1:10.
 
     python benchmarks/solitary_runup.py --cot 10 --H 0.05 --ddp 20
     python benchmarks/solitary_runup.py --cot 10 --H 0.05 --ddp 20 --options '{"riemann": true}'
+    python benchmarks/solitary_runup.py --ddp 5 --end 0.1     # a smoke test: seconds, no run-up yet
 """
 
 from __future__ import annotations
@@ -84,6 +85,9 @@ def main(argv=None):
     ap.add_argument("--fit-surface", action="store_true", help="the beach's wall particles on layers parallel to it")
     ap.add_argument("--out", help="keep the run here (else a temporary folder)")
     ap.add_argument("--json", help="write the figures to this JSON file")
+    ap.add_argument("--end", type=float, default=None,
+                    help="end time [s] (default: the crest's travel to the shoreline and its climb, plus 1 s); "
+                         "a short one is a smoke test, before the wave reaches the beach")
     a = ap.parse_args(argv)
     d, dp = a.d, a.d / a.ddp
     extra = json.loads(a.options)
@@ -94,6 +98,7 @@ def main(argv=None):
     paddle = SolitaryPiston(name="paddle", height=a.H * d, depth=d)
     t0 = 3.8 / (paddle.k * paddle.celerity)
     end = t0 + (20 * d + d * a.cot) / paddle.celerity + 3.0 * math.sqrt(d / 9.81) * a.cot ** 0.5 + 1.0
+    end = end if a.end is None else a.end
     case, R = flume(d, a.H, a.cot, dp, opts, end, fit_surface=a.fit_surface)
     print(f"solitary wave H/d = {a.H:g} on 1:{a.cot:g} (breaks: {breaks(a.H, a.cot)}), d = {d} m, d/dp = {a.ddp:g}, "
           f"{case.n_particles:,} particles, to t = {end:.2f} s; scheme {a.scheme}, walls {a.wall}, options {extra}, fit_surface {a.fit_surface}",

@@ -2,6 +2,7 @@
 
     python benchmarks/spheric_walls.py OUT_DIR '{"wall_pressure": "dynamic", "visco_bound_factor": 1.0}'
     python benchmarks/spheric_walls.py OUT_DIR '{}' --dp 0.04
+    python benchmarks/spheric_walls.py OUT_DIR '{}' --dp 0.1 --end 0.05   # a smoke test: seconds
 
 The JSON object holds `SPHOptions` keys replacing the validation's scheme (the case defaults with the walls
 of `shoal.validation.spheric_test2.WALLS`); prints the height RMSEs and the P1 peak errors, and writes the
@@ -23,9 +24,12 @@ def main(argv=None):
     ap.add_argument("out")
     ap.add_argument("options", nargs="?", default="{}", help="JSON object of SPHOptions changes")
     ap.add_argument("--dp", type=float, default=0.05)
+    ap.add_argument("--end", type=float, default=None,
+                    help="end of the run and of the compared window [s] (default: the validation's, 4 s); "
+                         "a short one is a smoke test, its P1 figures then meaningless")
     a = ap.parse_args(argv)
     opts = dict(WALLS, **json.loads(a.options))
-    case = SphericTest2(options=SPHOptions(**opts), dp=a.dp)
+    case = SphericTest2(options=SPHOptions(**opts), dp=a.dp, **({} if a.end is None else {"end_time": a.end}))
     t0 = time.perf_counter()
     res = case.run(False, "cpu", Path(a.out))
     case.compare(res)

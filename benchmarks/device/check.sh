@@ -23,6 +23,10 @@
 #          (default 0.04 m: 437,262 particles, 36,571 steps to t = 22.5 s, 1.6e10 particle-steps; 0.03 m:
 #          896,148 and 48,761, 4.4e10) on the GPU within RIP_LIMIT s (default 480), then its analysis
 #          -> $OUT/rip.log, results.json, meanflow_current.png, meanflow_setup.png (not in the default set)
+# Environment: OUT (results folder, default runs/device), DEADLINE (s, default 560), PY (the Python, default
+# python3). Without a GPU, `NUMBA_ENABLE_CUDASIM=1 PY=.venv/bin/python OUT=/tmp/x bash benchmarks/device/check.sh
+# info` runs the info stage on Numba's CUDA simulator (the smoke kernel passes, nvidia-smi is missing): the
+# smoke test of tests/test_scripts_smoke.py.
 set -u
 OUT=${OUT:-runs/device}
 DEADLINE=${DEADLINE:-560}
@@ -44,7 +48,7 @@ if [ -d /tmp/site ]; then export PATH=/tmp/site/bin:$PATH PYTHONPATH=/tmp/site; 
 mkdir -p /tmp/compat && printf 'import numpy\nif not hasattr(numpy, "row_stack"):\n    numpy.row_stack = numpy.vstack\n' \
     > /tmp/compat/sitecustomize.py && export PYTHONPATH=/tmp/compat${PYTHONPATH:+:$PYTHONPATH}
 export PYTHONPATH=$PWD/src${PYTHONPATH:+:$PYTHONPATH}
-PY=python3
+PY=${PY:-python3}  # the Python that runs each stage (tests/test_scripts_smoke.py names the venv's)
 stamp() { echo "== $(date -u +%H:%M:%S) t=${SECONDS}s $*"; }
 # limit L: L seconds, or what is left before the deadline (at least 5)
 limit() { local left=$((DEADLINE - SECONDS)); [ "$left" -lt 5 ] && left=5; [ "$1" -lt "$left" ] && echo "$1" || echo "$left"; }
