@@ -2,7 +2,7 @@
 
 Under ``mpiexec -n N`` (N > 1) `build_model` returns a `DistributedModel`
 holding this rank's slab of particles plus a halo of ghost copies of the
-neighbour ranks' particles, and `run_case` runs `run.run_case_mpi`. Outside
+neighbour ranks' particles, and `run_case` runs over the ranks (`run.Ranks`). Outside
 MPI nothing here is imported beyond this module, and `world()` only reads
 the environment: the single-process path is unchanged.
 
@@ -20,8 +20,9 @@ the environment: the single-process path is unchanged.
 - `checkpoint`: per-rank checkpoint files and their manifest; ``--resume`` on
   the same number of ranks (bitwise), another (re-distributed) or one process
   (the union of the ranks' particles in a single-process Model).
-- `run`: `run_case_mpi`, the run: per-rank VTU pieces and a ``.pvtu`` per
-  snapshot, gauges and probes written by rank 0, checkpoints.
+- `collective`: the errors every rank raises together.
+- `run`: `Ranks`, what a run does on several ranks (`shoal.runner` runs every run):
+  per-rank VTU pieces and a ``.pvtu`` per snapshot, gauges and probes written by rank 0, checkpoints.
 """
 
 from __future__ import annotations
@@ -52,7 +53,10 @@ def world():
 
     Zero cost outside MPI: mpi4py is imported only when the environment says
     an MPI launcher started more than one process (``SHOAL_MPI=0`` forces the
-    single-process path, ``SHOAL_MPI=1`` asks mpi4py)."""
+    single-process path; ``SHOAL_MPI=1`` asks mpi4py, and takes the MPI path
+    even on one rank: ``SHOAL_MPI=1 mpiexec -n 1 shoal run ...`` runs a
+    `DistributedModel` over `shoal.parallel.run.Ranks`, which a test compares
+    with a single-process run)."""
     global _world
     if _world is False:
         comm = None
@@ -64,7 +68,7 @@ def world():
 
                 raise InputError("started by an MPI launcher (mpiexec) but mpi4py is not installed; install the "
                                  "extra: pip install 'shoal[mpi]'") from None
-            if MPI.COMM_WORLD.Get_size() > 1:
+            if MPI.COMM_WORLD.Get_size() > 1 or os.environ.get("SHOAL_MPI", "") == "1":
                 comm = MPI.COMM_WORLD
         _world = comm
     return _world

@@ -1,4 +1,4 @@
-"""`run_case_mpi`: `shoal run` / `shoal.run_case` on several MPI ranks.
+"""`Ranks`: what `shoal run` / `shoal.run_case` does on several MPI ranks (`shoal.runner` runs it).
 
 What it writes (from rank 0 unless said): ``case.toml``, ``resolved.json``
 (with the ranks and slab cuts), ``run.log`` (with the re-cuts of the load
@@ -52,20 +52,18 @@ ends every rank: a failing rank never leaves the others hanging.
 
 from __future__ import annotations
 
-import csv
-import json
-import platform
 import sys
 import tempfile
 import traceback
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
-from ..version import __version__
 from ..errors import InputError, InstabilityError, OutputError, RunInterrupted
-from .decomposition import imbalance, weighted_counts
+from ..simulation.run_log import print_warning
 from .collective import CollectiveError, agree, collective_check, write_error
+from .decomposition import imbalance, weighted_counts
 
 EXIT_STATUS = {InputError: 2, InstabilityError: 3, OutputError: 4}
 
@@ -220,43 +218,40 @@ class _Snapshots:
         collective_check(self.comm, msg)
 
 
-def _escaped_recorder(out_dir, model, rank, resume_bytes=None):
-    """This rank's escaped-particle recorder (``escaped.csv`` on rank 0, ``escaped.rank<r>.csv``
-    elsewhere); on a resume (`resume_bytes`: its length at the checkpoint) the file is cut back
-    to that length and appended to."""
-    from ..simulation.escaped import HEADER, EscapedRecorder
+class Ranks:
+    """The hooks of a run on the ranks of `comm` (`shoal.runner` runs it; see
+    `shoal.simulation.one_process` for what each hook answers).
 
-    rec = EscapedRecorder.__new__(EscapedRecorder)
-    rec.path = Path(out_dir) / ("escaped.csv" if rank == 0 else f"escaped.rank{rank}.csv")
-    rec.max_fraction = 1.0
-    rec.n_fluid0 = 0
-    if resume_bytes and rec.path.exists():
-        rec.file = open(rec.path, "r+", newline="")
-        rec.file.truncate(int(resume_bytes))
-        rec.file.seek(0, 2)
-        rec.writer = csv.writer(rec.file)
-    else:
-        rec.file = open(rec.path, "w", newline="")
-        rec.writer = csv.writer(rec.file)
-        rec.writer.writerow(HEADER)
-    rec.file.flush()
-    rec.last = None
-    model.on_escape = rec.on_escape
-    return rec
+    Bad input is found on every rank alike, or decided on rank 0 and broadcast, and raised
+    everywhere; after the model is built, an error that is not collective (not raised on every
+    rank together) ends every rank through `abort` (`guard`), so no rank is left waiting.
+    """
 
+    def __init__(self, comm):
+        self.comm = comm
+        self.rank, self.size = comm.Get_rank(), comm.Get_size()
+        self.started = False
+        self.model = None
+        self.logged = 0
+        self.backend = "cpu"
 
-def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, max_steps=None, overwrite=False,
-                 resume=False, handle_signals=True):
-    """`shoal.run_case` on every rank of `comm` (see the module docstring). Returns a `RunResult`
-    on every rank (``particles``, ``escaped``: whole-run figures)."""
-    rank = comm.Get_rank()
-    out_dir = Path(out_dir)
-    started = False
-    try:
+    def guard(self, start):
+        try:
+            return start()
+        except BaseException as err:  # noqa: BLE001 -- anything not raised on every rank alike ends every rank
+            if getattr(err, "collective", False) or (not self.started and isinstance(err, InputError)):
+                raise
+            if isinstance(err, (KeyboardInterrupt, RunInterrupted)):
+                raise
+            abort(self.comm, err)
+            raise
+
+    def prepare(self, case, out_dir, overwrite, resume):
+        from ..memory import check_memory
+        from ..simulation.one_process import StartPoint
+
         msg = None
-        if rank == 0:
-            from ..memory import check_memory
-
+        if self.rank == 0:
             try:
                 snapshot_mode()
                 if resume:
@@ -268,159 +263,84 @@ def run_case_mpi(case, out_dir, comm, backend="cpu", progress=False, plot=True, 
                                      "or pass --overwrite")
                 check_memory(case)
                 out_dir.mkdir(parents=True, exist_ok=True)
-                if not resume:
-                    from ..advice import wave_scheme_warnings
-                    from ..simulation.run_log import print_warning
-
-                    for w in wave_scheme_warnings(case):
-                        print_warning(w)
             except InputError as err:
                 msg = str(err)
             except OSError as err:
                 msg = f"cannot write to the output directory {out_dir}: {err.strerror or err}"
-        agree(comm, msg)
-        resume_point = None
-        if resume:
-            resume_point = _resume_point(case, out_dir, comm)  # InputError on every rank alike
-        from ..build import build_model
+        agree(self.comm, msg)
+        if not resume:
+            return StartPoint(case)
+        return self._resume_point(case, out_dir)  # InputError on every rank alike
 
-        model = build_model(case, backend)  # a DistributedModel: deterministic errors, raised on every rank
-        started = True
-        return _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point, handle_signals)
-    except BaseException as err:  # noqa: BLE001 -- anything not raised on every rank alike ends every rank
-        if getattr(err, "collective", False) or (not started and isinstance(err, InputError)):
-            raise
-        if isinstance(err, (KeyboardInterrupt, RunInterrupted)):
-            raise
-        abort(comm, err)
-        raise
+    def _resume_point(self, case, out_dir):
+        """The manifest (or the single-process checkpoint re-distributed) and this rank's checkpoint
+        (or the union to re-distribute) (collective; InputError on every rank alike: no usable
+        checkpoint, another case, a finished run)."""
+        from ..simulation.one_process import StartPoint
+        from ..simulation.resume import check_same_case
+        from .checkpoint import find_resume
 
+        warnings = []
 
-def _resume_point(case, out_dir, comm):
-    """(path, this rank's Checkpoint, warnings) to resume the run in `out_dir` from: the path is
-    the manifest (or the single-process checkpoint re-distributed), the checkpoint this rank's
-    file (or the union to re-distribute) (collective; InputError on every rank alike: no usable
-    checkpoint, another case, a finished run)."""
-    from ..simulation.resume import check_same_case
-    from ..simulation.run_log import print_warning
-    from .checkpoint import find_resume
+        def warn(msg):
+            print_warning(msg)
+            warnings.append(msg)
 
-    warnings = []
+        man, obj, ck = find_resume(out_dir, self.comm, warn=warn)
+        check_same_case(case, ck)
+        if ck.time >= case.end_time * (1 - 1e-12):
+            raise InputError(f"the run in {out_dir} is complete (checkpoint {man.name} at t = {ck.time:.6g} s, "
+                             f"end_time = {case.end_time:g} s); give a later --end-time to extend it")
+        return StartPoint(case, ck, man, warnings)
 
-    def warn(msg):
-        print_warning(msg)
-        warnings.append(msg)
+    def warn(self, message):
+        if self.rank == 0:
+            print_warning(message)
 
-    man, obj, ck = find_resume(out_dir, comm, warn=warn)
-    check_same_case(case, ck)
-    if ck.time >= case.end_time * (1 - 1e-12):
-        raise InputError(f"the run in {out_dir} is complete (checkpoint {man.name} at t = {ck.time:.6g} s, "
-                         f"end_time = {case.end_time:g} s); give a later --end-time to extend it")
-    return man, ck, warnings
+    def hold(self, out_dir):
+        """The run directory (made by rank 0 in `prepare`) is not locked under MPI."""
+        return None
 
-
-def _checkpoint_schedule(cfg, comm):
-    """The single-process checkpoint schedule, its wall-clock part decided by rank 0."""
-    from ..simulation.schedules import checkpoint_schedule as single
-    from ..simulation.schedules import WallTimeInterval
-    from .checkpoint import CollectiveSchedule
-
-    sched = single(cfg)
-    sched.schedules = [CollectiveSchedule(s, comm) if isinstance(s, WallTimeInterval) else s
-                       for s in sched.schedules]
-    return sched
-
-
-def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_point=None, handle_signals=True):
-    import time as _time
-    from contextlib import nullcontext
-    from types import SimpleNamespace
-
-    from ..simulation.signals import StopOnSignals
-
-    from ..casefile import dumps_case, write_case
-    from ..probes import make_recorder
-    from ..simulation.run_log import ProgressBar, close_run_log, open_run_log
-    from ..simulation.run_result import RunResult, run_summary
-    from ..simulation import IterationInterval, Simulation, TimeInterval
-    from ..simulation.checkpoint import clear_checkpoints, restore_recorders, set_aside_csvs, set_aside_newer
-    from .checkpoint import MPICheckpointWriter, cut_escaped_files, restore_rank
-
-    rank, size = comm.Get_rank(), comm.Get_size()
-    sim = Simulation(model, case.end_time)
-    sim.damping = list(case.damping)
-    man, ck, warnings = resume_point if resume_point is not None else (None, None, [])
-    log = None
-    if rank == 0:
-        if ck is None:
-            clear_checkpoints(out_dir)  # a new run never resumes from an older run's state
-        else:
-            set_aside_newer(out_dir, ck.step)
-        write_case(case, out_dir / "case.toml")
-    if rank == 0 and ck is not None:
-        log = open_run_log(out_dir, append=True)
-        for w in warnings:
-            log.warning("%s", w)
-    elif rank == 0:
-        resolved = run_summary(case, model)
-        resolved.update(shoal_version=__version__, backend=backend, python=platform.python_version(),
-                        threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
-                        speed_of_sound=model.c0, eos_B=model.B, particle_mass=model.mass,
-                        mpi={"ranks": size, "slab_cuts_x": model.cuts[1:-1].tolist(),
-                             "halo_width": model.halo_width, "rebalance_interval": model.rebalance_interval,
-                             "rebalance_threshold": model.rebalance_threshold})
+    # ------------------------------------------------------------ set-up
+    def resolved(self, model):
+        mpi = {"ranks": self.size, "slab_cuts_x": model.cuts[1:-1].tolist(), "halo_width": model.halo_width,
+               "rebalance_interval": model.rebalance_interval, "rebalance_threshold": model.rebalance_threshold}
         if model.gpus is not None:
-            resolved["mpi"]["gpus"] = model.gpus
-        (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
-        log = open_run_log(out_dir)
-        log.info("case %s: %s", case.name, case.description)
-        log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d MPI ranks x %d threads, %s; "
-                 "slab cuts x = %s m, halo %.4g m", model.n_global, case.n_fluid, case.dp, model.h, model.c0,
-                 backend, size, model.backend.threads(), case.options.precision,
-                 ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), model.halo_width)
-        log.info("load balancing: %s", f"every {model.rebalance_interval} steps when the ranks' max / mean weighted "
-                 f"count exceeds {model.rebalance_threshold:g}" if model.rebalance_interval else "off")
-    if log is not None and model.gpus is not None:  # a new run or a resume: the devices of this start
-        from .gpu import describe
+            mpi["gpus"] = model.gpus
+        return {"mpi": mpi}
 
-        for line in describe(model.gpus):
-            log.info("GPU: %s", line)
-    # on a resume, rank 0's probe CSVs are set aside before the recorders re-create them, then get back
-    # exactly the bytes they held at the checkpoint (as a single-process resume does)
-    backups = set_aside_csvs(out_dir, skip=("escaped",)) if rank == 0 and ck is not None else {}
-    escaped = _escaped_recorder(out_dir, model, rank,
-                                resume_bytes=ck.meta["mpi"].get("escaped_bytes") if ck is not None else None)
-    model.sort()
-    probe_dir = out_dir if rank == 0 else Path(tempfile.mkdtemp(prefix=f"shoal-rank{rank}-"))
-    recorders = [make_recorder(p, probe_dir, case.dp, model) for p in case.probes]
-    for rec in recorders:
-        sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
-    writer = _Snapshots(out_dir, case.name, comm, snapshot_mode(), resume=ck is not None)
-    sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
-    bar = ProgressBar(case.end_time, progress and rank == 0)
-    sim.add_callback(bar, TimeInterval(max(case.end_time / 200, 1e-12), exact=False), name="progress")
-    n_fluid0 = case.n_fluid
+    def log_start(self, log, case, model, backend, resumed):
+        self.backend = backend
+        if not resumed:
+            log.info("particles %d (fluid %d), dp %g m, h %g m, c0 %g m/s, backend %s, %d MPI ranks x %d threads, "
+                     "%s; slab cuts x = %s m, halo %.4g m", model.n_global, case.n_fluid, case.dp, model.h, model.c0,
+                     backend, self.size, model.backend.threads(), case.options.precision,
+                     ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), model.halo_width)
+            log.info("load balancing: %s", f"every {model.rebalance_interval} steps when the ranks' max / mean "
+                     f"weighted count exceeds {model.rebalance_threshold:g}" if model.rebalance_interval else "off")
+        if model.gpus is not None:  # a new run or a resume: the devices of this start
+            from .gpu import describe
 
-    logged = [len(model.rebalances)]
+            for line in describe(model.gpus):
+                log.info("GPU: %s", line)
 
-    def log_rebalances():
-        for rec in model.rebalances[logged[0]:]:
-            if log is not None:
-                log.info("re-balanced at t %.6g s (sort %d): max/mean weighted count %.3f -> %.3f, particles "
-                         "per rank %s -> %s, slab cuts x = %s m", rec["time"], rec["sort"], rec["imbalance_before"],
-                         rec["imbalance_after"], rec["counts_before"], rec["counts_after"],
-                         ", ".join(f"{c:.5g}" for c in rec["cuts"]))
-        logged[0] = len(model.rebalances)
+    csv_kept_aside = ("escaped",)
+    """Each rank cuts its own ``escaped*.csv`` back (`escaped`)."""
 
-    def log_step(s):
-        n = model.global_count()
-        esc = model.allreduce(model.n_escaped, "sum")
-        log_rebalances()
-        if log is not None:
-            log.info("step %d t %.6g s dt %.4g s particles %d escaped %d", s.step_count, s.time, s.dt or 0.0, n, esc)
+    def escaped(self, out_dir, model, case, ck):
+        """This rank's ``escaped.csv`` (rank 0) or ``escaped.rank<r>.csv``, and the collective check
+        that stops every rank when more than ``max_escaped_fraction`` of the fluid has left."""
+        from ..simulation.escaped import EscapedRecorder
 
-    sim.add_callback(log_step, TimeInterval(case.output.interval, exact=False), name="log")
-    if case.max_escaped_fraction < 1.0:
+        self.model = model
+        self.logged = len(model.rebalances)
+        rec = EscapedRecorder(out_dir, model, 1.0, name="escaped.csv" if self.rank == 0 else
+                              f"escaped.rank{self.rank}.csv",
+                              resume_bytes=ck.meta["mpi"].get("escaped_bytes") if ck is not None else None)
+        if case.max_escaped_fraction >= 1.0:
+            return rec, None
+        n_fluid0 = case.n_fluid
+
         def escaped_check(s):
             gone = n_fluid0 - model.allreduce(model.n_fluid, "sum")
             if gone > case.max_escaped_fraction * n_fluid0:
@@ -429,105 +349,123 @@ def _run(case, out_dir, comm, model, progress, plot, max_steps, backend, resume_
                     f"step {s.step_count}, t = {s.time:.6g} s, more than max_escaped_fraction = "
                     f"{case.max_escaped_fraction:g} (list in escaped*.csv): enlarge the domain, or check the inflow, "
                     "the walls and the time step")
-        sim.add_callback(escaped_check, IterationInterval(1), name="escaped")
-    # stop signals: the handler marks this rank only (`mark`); every step the ranks agree (a MAX
-    # reduction) and all stop after the same step, so the final checkpoint is collective
-    mark = SimpleNamespace(stop_requested=False)
 
-    def agree_stop(s):
-        if model.allreduce(int(mark.stop_requested), "max"):
-            s.stop_requested = True
+        return rec, escaped_check
 
-    sim.after_step.append(agree_stop)  # not a callback: a checkpoint's callbacks stay those of one process
-    ckw = MPICheckpointWriter(out_dir, dumps_case(case, file_name="case.toml"), case.checkpoint.keep, comm, log,
-                              escaped)
-    ck_cb = sim.add_callback(ckw, _checkpoint_schedule(case.checkpoint, comm), name="checkpoint")  # last
-    ck_cb.fresh_on_resume = True
-    closers = [escaped, *recorders]
-    if ck is not None:
+    def probe_dir(self, out_dir):
+        """Rank 0 writes the probes' files; the others sample into a folder of their own."""
+        return out_dir if self.rank == 0 else Path(tempfile.mkdtemp(prefix=f"shoal-rank{self.rank}-"))
+
+    def snapshot_writer(self, out_dir, name, resume):
+        return _Snapshots(out_dir, name, self.comm, snapshot_mode(), resume=resume)
+
+    def stop_target(self, sim):
+        """A stop signal marks this rank only; after each step the ranks agree (a MAX reduction) and all
+        stop after the same step, so the final checkpoint is collective."""
+        mark = SimpleNamespace(stop_requested=False)
+
+        def agree_stop(s):
+            if s.model.allreduce(int(mark.stop_requested), "max"):
+                s.stop_requested = True
+
+        sim.after_step.append(agree_stop)  # not a callback: a checkpoint's callbacks stay those of one process
+        return mark
+
+    def checkpoint_writer(self, out_dir, case_toml, keep, log, escaped):
+        from .checkpoint import MPICheckpointWriter
+
+        return MPICheckpointWriter(out_dir, case_toml, keep, self.comm, log, escaped)
+
+    def checkpoint_schedule(self, cfg):
+        """The single-process checkpoint schedule, its wall-clock part decided by rank 0."""
+        from ..simulation.schedules import WallTimeInterval, checkpoint_schedule
+        from .checkpoint import CollectiveSchedule
+
+        sched = checkpoint_schedule(cfg)
+        sched.schedules = [CollectiveSchedule(s, self.comm) if isinstance(s, WallTimeInterval) else s
+                           for s in sched.schedules]
+        return sched
+
+    def restore(self, sim, point, out_dir, backups, log):
+        from ..simulation.checkpoint import restore_recorders
+        from .checkpoint import cut_escaped_files, restore_rank
+
+        ck = point.ck
         restore_rank(sim, ck)
         restore_recorders(sim, ck, out_dir, backups, None if log is None else lambda w: log.warning("%s", w))
-        if rank == 0 and ck.meta["mpi"].get("redistribute"):  # a run on more ranks: the others' escapes
-            cut_escaped_files(out_dir, ck.meta["mpi"]["escaped_bytes_ranks"], size)
-        for sch in ck_cb.schedule.schedules:
-            if isinstance(sch, TimeInterval):
-                sch.skip_to(sim.time)
-        ckw.last_step, ckw.last_path = ck.step, man
-        logged[0] = len(model.rebalances)
-        if log is not None:
-            source = ck.meta["mpi"].get("source")
-            how = f"written by {source}, re-distributed over {size} ranks" if source else f"{size} ranks"
-            log.info("resumed from %s (%s): step %d, t = %.9g s, dt %.6g s, slab cuts x = %s m; run to "
-                     "t = %g s", man.name, how, ck.step, ck.time, sim.dt or 0.0,
-                     ", ".join(f"{c:.5g}" for c in model.cuts[1:-1]), case.end_time)
-    t0 = _time.perf_counter()
-    stopper = StopOnSignals(mark) if handle_signals else nullcontext()
-    try:
-        with stopper:
-            sim.run(max_steps=max_steps)
-    except InstabilityError as err:
-        bar.stop()
-        for rec in closers:
-            rec.close()
-        if not getattr(err, "collective", False):
-            raise
-        path = writer.write(model, sim.time, suffix="unstable")
-        if log is not None:
-            kept = f"; last checkpoint kept: {ckw.last_path.name}" if ckw.last_path is not None else ""
-            log.error("%s; bad state written to %s%s", err, path.name, kept)
-            close_run_log(log)
-        raise CollectiveError(f"{err} (state written to {path or out_dir})") from None
-    finally:
-        bar.stop()
-    signum = model.allreduce(int(getattr(stopper, "signum", None) or 0), "max") if sim.stop_requested else 0
-    if writer.last_time is None or writer.last_time < sim.time - 1e-12:
-        writer(sim)
-    final = ckw.write(sim)  # before closing the recorders: it records their files' lengths
-    for rec in closers:
-        rec.close()
-    if signum:
-        import signal as _signal
+        if self.rank == 0 and ck.meta["mpi"].get("redistribute"):  # a run on more ranks: the others' escapes
+            cut_escaped_files(out_dir, ck.meta["mpi"]["escaped_bytes_ranks"], self.size)
+        self.logged = len(sim.model.rebalances)
 
-        msg = (f"stopped by {_signal.Signals(signum).name} at step {sim.step_count}, t = {sim.time:.6g} s; "
-               f"checkpoint {final.name} written on {size} ranks; continue with: mpiexec -n {size} shoal run "
-               f"--resume {out_dir}")
-        if log is not None:
-            log.warning("%s", msg)
-            close_run_log(log)
-        raise RunInterrupted(msg, signum, final)
-    wall = _time.perf_counter() - t0
-    comm_max = model.allreduce(model.comm_seconds, "max")
-    comm_min = model.allreduce(model.comm_seconds, "min")
-    n_escaped = model.allreduce(model.n_escaped, "sum")
-    n_now = model.global_count()
-    log_rebalances()
-    balance = weighted_counts(comm, model.weighted_count())
-    owned_counts = comm.allgather(int(model.n_owned))
-    memory = comm.allgather((int(model.capacity), int(model.nbytes()), int(model.resizes)))
-    data = model.gather_particles() if plot else None
-    if plot and rank == 0:
-        from ..output import plot_particles
+    def log_resumed(self, log, point, sim, case):
+        ck, m = point.ck, sim.model
+        source = ck.meta["mpi"].get("source")
+        how = f"written by {source}, re-distributed over {self.size} ranks" if source else f"{self.size} ranks"
+        log.info("resumed from %s (%s): step %d, t = %.9g s, dt %.6g s, slab cuts x = %s m; run to "
+                 "t = %g s", point.path.name, how, ck.step, ck.time, sim.dt or 0.0,
+                 ", ".join(f"{c:.5g}" for c in m.cuts[1:-1]), case.end_time)
 
-        pos, f = data
-        plot_particles(out_dir / f"{case.name}_final.png", pos, np.linalg.norm(f["velocity"], axis=1), kind=f["kind"],
-                       title=f"{case.name}  t = {sim.time:.3f} s", value_label="|v| [m/s]", dim=case.dim)
-    if rank != 0:
-        import shutil
+    def log_rebalances(self, log):
+        """The load balancing's re-cuts since the last call, in ``run.log``."""
+        model = self.model
+        for rec in model.rebalances[self.logged:]:
+            if log is not None:
+                log.info("re-balanced at t %.6g s (sort %d): max/mean weighted count %.3f -> %.3f, particles "
+                         "per rank %s -> %s, slab cuts x = %s m", rec["time"], rec["sort"], rec["imbalance_before"],
+                         rec["imbalance_after"], rec["counts_before"], rec["counts_after"],
+                         ", ".join(f"{c:.5g}" for c in rec["cuts"]))
+        self.logged = len(model.rebalances)
 
-        shutil.rmtree(probe_dir, ignore_errors=True)
-    result = RunResult(out_dir, sim.step_count, sim.time, sim.wall_seconds, model.backend.compile_seconds,
-                       model.n_global, n_escaped, writer.count, model, sim, checkpoint=final, resumed_from=man)
-    if log is not None:
+    # ------------------------------------------------------------ the run and its end
+    def collective(self, err):
+        return bool(getattr(err, "collective", False))
+
+    def instability(self, message):
+        return CollectiveError(message)
+
+    def stop_signal(self, stopper, sim):
+        if not sim.stop_requested:
+            return 0
+        return sim.model.allreduce(int(getattr(stopper, "signum", None) or 0), "max")
+
+    def resume_command(self, out_dir):
+        return f"mpiexec -n {self.size} shoal run --resume {out_dir}"
+
+    def count(self, model):
+        return model.n_global, model.global_count(), model.allreduce(model.n_escaped, "sum")
+
+    def plot_data(self, model):
+        pos, f = model.gather_particles()  # collective
+        if self.rank != 0:
+            return None
+        return pos, np.linalg.norm(f["velocity"], axis=1), f["kind"]
+
+    def finish(self, probe_dir):
+        if self.rank != 0:
+            import shutil
+
+            shutil.rmtree(probe_dir, ignore_errors=True)
+
+    def end_stats(self, model, wall):
+        """(communication seconds min / max over the ranks, the wall time, the weighted counts, each rank's
+        owned count, each rank's (rows, bytes, re-sizes)) (collective)."""
+        return dict(comm_min=model.allreduce(model.comm_seconds, "min"),
+                    comm_max=model.allreduce(model.comm_seconds, "max"), wall=wall,
+                    balance=weighted_counts(self.comm, model.weighted_count()),
+                    owned=self.comm.allgather(int(model.n_owned)),
+                    memory=self.comm.allgather((int(model.capacity), int(model.nbytes()), int(model.resizes))))
+
+    def log_end(self, log, result, stats, counts):
+        self.log_rebalances(log)
         log.info("done: %d steps to t = %.6g s in %.2f s wall (%.2f s compile), %.3g particle-steps/s, %d particles "
                  "(%d at the start), %d escaped; communication (exchanges, reductions, gathers, and waiting for "
                  "the slowest rank) %.2f-%.2f s per rank, %.1f %% of the wall time at most",
                  result.steps, result.time, result.wall_seconds, result.compile_seconds,
-                 result.particle_steps_per_second, n_now, model.n_global, n_escaped, comm_min, comm_max,
-                 100.0 * comm_max / max(wall, 1e-9))
+                 result.particle_steps_per_second, counts[1], counts[0], counts[2], stats["comm_min"],
+                 stats["comm_max"], 100.0 * stats["comm_max"] / max(stats["wall"], 1e-9))
         log.info("load balance at the end: %d re-cuts, max/mean weighted count %.3f, particles per rank %s",
-                 len(model.rebalances), imbalance(balance), owned_counts)
-        log.info("memory per rank, %s arrays (particle, work, grid): %s", "device" if backend == "cuda" else "host",
+                 len(self.model.rebalances), imbalance(stats["balance"]), stats["owned"])
+        log.info("memory per rank, %s arrays (particle, work, grid): %s", "device" if self.backend == "cuda" else "host",
                  "; ".join(f"rank {r}: {rows} rows, {nb / 2**20:.1f} MiB ({nb / max(own, 1):.0f} B per owned particle), "
-                           f"{k} re-size(s)" for r, ((rows, nb, k), own) in enumerate(zip(memory, owned_counts))))
-        close_run_log(log)
-    return result
+                           f"{k} re-size(s)" for r, ((rows, nb, k), own) in enumerate(zip(stats["memory"],
+                                                                                           stats["owned"]))))

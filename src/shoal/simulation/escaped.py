@@ -42,16 +42,28 @@ class EscapedRecorder:
     max_fraction : float
         Largest fraction (0, 1] of the fluid particles allowed to leave; 1:
         the run never stops for it.
+    name : str
+        The file's name (an MPI rank other than 0 writes ``escaped.rank<r>.csv``).
+    resume_bytes : int, optional
+        On a resume, the file's length at the checkpoint: the file is cut back
+        to it and appended to (None or 0: a new file).
     """
 
-    def __init__(self, out_dir, model, max_fraction=1.0):
-        self.path = Path(out_dir) / "escaped.csv"
+    def __init__(self, out_dir, model, max_fraction=1.0, name="escaped.csv", resume_bytes=None):
+        self.path = Path(out_dir) / name
         self.max_fraction = float(max_fraction)
-        kinds = model.host(model.kind, 0, model.n_total)
+        # the fluid at the start, for the stop check (a rank of a run on several does not check alone)
+        kinds = model.host(model.kind, 0, model.n_total) if self.max_fraction < 1.0 else np.zeros(0)
         self.n_fluid0 = int(np.count_nonzero(kinds == FLUID))
-        self.file = open(self.path, "w", newline="")
-        self.writer = csv.writer(self.file)
-        self.writer.writerow(HEADER)
+        if resume_bytes and self.path.exists():
+            self.file = open(self.path, "r+", newline="")
+            self.file.truncate(int(resume_bytes))
+            self.file.seek(0, 2)
+            self.writer = csv.writer(self.file)
+        else:
+            self.file = open(self.path, "w", newline="")
+            self.writer = csv.writer(self.file)
+            self.writer.writerow(HEADER)
         self.file.flush()
         self.last = None
         model.on_escape = self.on_escape
