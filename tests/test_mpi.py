@@ -866,6 +866,43 @@ def test_stop_signal_on_two_ranks_checkpoints_and_resumes(mpiexec, tmp_path, sig
     assert r.returncode == 0 and f"resumed from {man.name}" in r.stdout, r.stdout[-1000:] + r.stderr[-2000:]
 
 
+def test_one_rank_on_the_mpi_path_writes_what_one_process_writes(mpiexec, tmp_path):
+    """One run path (issue 29): ``SHOAL_MPI=1 mpiexec -n 1 shoal run`` goes through the MPI side of the
+    run (a `DistributedModel` over `shoal.parallel.run.Ranks`, snapshots gathered) and writes the
+    single-process run's probe and escaped-particle files byte for byte, and snapshots holding the same
+    particles bitwise (in id order, where one process writes them in cell order)."""
+    import shoal
+    from shoal.cases import dam_break_2d
+    from shoal.output import read_vtu
+    from shoal.probes import WaveGauge
+
+    case = dam_break_2d(dp=0.02, end_time=0.1, output_interval=0.05)
+    case = case.model_copy(update={"probes": [WaveGauge(name="g", x=0.3, z0=0.0, z1=0.5, interval=0.01)]})
+    toml = tmp_path / "case.toml"
+    shoal.write_case(case, toml)
+    run = [sys.executable, "-m", "shoal", "run", str(toml), "--no-plot", "--no-progress", "--out"]
+    one = subprocess.run([*run, str(tmp_path / "one")], capture_output=True, text=True, timeout=300, env=_env())
+    assert one.returncode == 0, one.stderr[-2000:]
+    env = dict(_env(), SHOAL_MPI="1", SHOAL_MPI_SNAPSHOTS="gather")
+    ranks = subprocess.run([*mpiexec, "-n", "1", *run, str(tmp_path / "ranks")], capture_output=True, text=True,
+                           timeout=300, env=env)
+    assert ranks.returncode == 0, ranks.stderr[-2000:]
+    a, b = tmp_path / "one", tmp_path / "ranks"
+    assert "1 MPI ranks" in (b / "run.log").read_text() and "MPI" not in (a / "run.log").read_text()
+    assert list(b.glob("ckpt_*.mpi.json")) and not list(b.glob("ckpt_*[0-9].h5"))
+    for name in ("gauge_g.csv", "escaped.csv", "case.toml"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    snaps = sorted(p.name for p in a.glob("dam-break-2d_*.vtu"))
+    assert len(snaps) == 3 and snaps == sorted(p.name for p in b.glob("dam-break-2d_*.vtu"))
+    for name in snaps:
+        pa, da = read_vtu(a / name)
+        pb, db = read_vtu(b / name)
+        ia, ib = np.argsort(da["id"]), np.argsort(db["id"])
+        assert sorted(da) == sorted(db) and np.array_equal(pa[ia], pb[ib]), name
+        for field in da:
+            assert np.array_equal(da[field][ia], db[field][ib]), (name, field)
+
+
 def _periodic_channel(dp=0.01, length=0.8, end_time=0.1):
     """A 2D channel periodic in x (0.1 m between plates of 3 layers of particles, `length` long),
     water started at 0.5 m/s along x and driven by a body force of 2 m/s^2, float64: it moves 5 dp in
