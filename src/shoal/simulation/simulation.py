@@ -1,4 +1,7 @@
-"""Simulation: runs a Model with a time integrator and scheduled callbacks.
+"""Simulation: runs a Model with a time integrator, per-step stages and scheduled callbacks.
+
+Each step is the integrator's, then the `stages` in their stated order
+(`shoal.simulation.stages`: damping, density filter, stability check).
 
 Everything periodic (writers, probes, checks, progress) is a callback with
 a schedule. Output times of `TimeInterval` schedules are hit exactly: the
@@ -12,6 +15,7 @@ import time as _time
 
 from ..errors import InstabilityError
 from ..timestepping import make_integrator
+from .stages import default_stages
 
 
 class Callback:
@@ -75,6 +79,7 @@ class Simulation:
         self.after_step = []
         self.started = False  # the initial sort, check and t = 0 callbacks are done (or restored from a checkpoint)
         self.options = model.options
+        self.stages = default_stages(model.options, check_every)
 
     def add_callback(self, func, schedule, name=None):
         """Attach ``func(sim)`` to run on `schedule`."""
@@ -113,7 +118,8 @@ class Simulation:
         return dt
 
     def step(self):
-        """Advance one time step and apply the density filter when due."""
+        """Advance one time step: the integrator, then the `stages` in order
+        (`shoal.simulation.stages`: damping, density filter, stability check)."""
         m = self.model
         m.time = self.time
         try:
@@ -122,20 +128,11 @@ class Simulation:
             if " step " in str(err):
                 raise
             raise InstabilityError(f"unstable at step {self.step_count + 1}, t = {self.time:.6g} s: {err}") from None
-        if self.damping:
-            m.apply_damping(self.damping, dt)
         self.time += dt
         m.time = self.time
         self.step_count += 1
-        o = self.options
-        if o.shepard_every and self.step_count % o.shepard_every == 0:
-            m.apply_filter("shepard")
-            self.integrator.reset_density_history()
-        elif o.mls_every and self.step_count % o.mls_every == 0:
-            m.apply_filter("mls")
-            self.integrator.reset_density_history()
-        if self.step_count % self.check_every == 0:
-            m.check(self.step_count, self.time)
+        for stage in self.stages:
+            stage(self, dt)
         return dt
 
     def elapsed_wall_seconds(self):
