@@ -154,6 +154,7 @@ def fluid_block(shared_backends):
 # seconds from a cold CI run on 2 cores (2026-12-04, file totals of the 80 slowest tests): test_cases.py
 # (119 s), outside the list, could be handed out last and run alone.
 _COSTLY_FILES = ("test_mpi.py", "test_tidal_bore.py", "test_still_water.py", "test_cuda_parity.py",  # 309-234 s
+                 "test_scripts_smoke.py",  # 50 s warm, 200 s cold
                  "test_cases.py", "test_symmetry.py", "test_periodic_runup.py",  # 119, 116, ~100
                  "test_riemann.py", "test_dam_break.py", "test_pressure_sensors.py",  # 85, 61, 54 (one process)
                  "test_periodic.py", "test_free_surface.py", "test_wall_pressure.py",  # 61-48

@@ -113,6 +113,10 @@ class Model:
         """h = coef_h sqrt(dim) dp [m] (`shoal.physics.constants.smoothing_length`)."""
         return smoothing_length(options.coef_h, dim, dp)
 
+    STATE_ARRAYS = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax", "pr2")
+    """The per-particle arrays every checkpoint saves (`checkpoint_arrays`); the integrator's are
+    `extra_arrays`."""
+
     body_of = None
     """(n_ids,) int32: the solid (index in the case's `solids`) of each particle id, -1 for fluid; set by
     `shoal.build.build_model` (a Model built from bare arrays has none: no force gauges)."""
@@ -598,6 +602,21 @@ class Model:
         else:
             out[:, 0] = v[:, 0]
             out[:, 2] = v[:, 1]
+        return out
+
+    def checkpoint_arrays(self):
+        """The per-particle state a checkpoint saves, by attribute name: `STATE_ARRAYS`; the XSPH
+        velocity, the SPS stress and the no-slip wall velocity where the scheme keeps them per particle
+        (otherwise they are one-row placeholders); with moving bodies, each particle's start position and
+        motion (indexed by id). Not state: the case's geometry (``body_of``, ``ghost_of``,
+        ``wall_normal_of``), work arrays (``scratch``, a force gauge's), the neighbour grid's."""
+        out = {name: getattr(self, name) for name in self.STATE_ARRAYS}
+        for name in ("xsph", "tau", "vwall"):
+            a = getattr(self, name)
+            if a.shape[0] == self.n_total and self.n_total > 1:
+                out[name] = a
+        if self.motion_of is not None:
+            out["pos_init"], out["motion_of"] = self.pos_init, self.motion_of
         return out
 
     def pressure(self):

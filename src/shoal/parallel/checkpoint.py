@@ -357,7 +357,7 @@ def for_one_process(ck, sim):
         The checkpoint does not match the model or the Simulation, or its
         ranks do not hold every active particle exactly once.
     """
-    from ..simulation.checkpoint import Checkpoint, particle_arrays
+    from ..simulation.checkpoint import Checkpoint
 
     m = sim.model
     mm, mpi = ck.meta["model"], ck.meta["mpi"]
@@ -383,7 +383,7 @@ def for_one_process(ck, sim):
         return np.concatenate([src, m.backend.to_host(dst, 0, m.n_total)[gone]])
 
     particles = {}
-    for name, dst in particle_arrays(m).items():
+    for name, dst in m.checkpoint_arrays().items():
         if name in ck.particles:
             particles[name] = whole(name, ck.particles[name], dst)
         elif name in _BY_ID:

@@ -747,8 +747,7 @@ class DistributedModel(Model):
         """The per-particle arrays a checkpoint of this rank saves (rows ``0..n``: owned
         and ghosts, in their current order), by attribute name; the integrator's
         arrays and the ghost flags are ``extra_arrays``."""
-        out = {name: getattr(self, name) for name in ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax",
-                                                        "pr2")}
+        out = {name: getattr(self, name) for name in self.STATE_ARRAYS}
         for name in ("xsph", "tau", "vwall"):
             a = getattr(self, name)
             if a.shape[0] == self._capacity and self._capacity > 1:

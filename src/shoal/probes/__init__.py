@@ -48,6 +48,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..geometry.shapes import PositiveReal, Real, Spec, Vec3
+from .recorder_state import Recorder
 
 NonNegativeReal = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 
@@ -302,7 +303,7 @@ def make_recorder(spec, out_dir, dp, model):
     return ProbeRecorder(spec, out_dir, dp)
 
 
-class GridRecorder:
+class GridRecorder(Recorder):
     """Samples a `TestPoints` grid; writes the NetCDF file on `close`."""
 
     def __init__(self, spec, out_dir):
@@ -352,7 +353,7 @@ class GridRecorder:
             tmp.replace(self.path)
 
 
-class TrackRecorder:
+class TrackRecorder(Recorder):
     """Appends the positions of tracked particles to a CSV.
 
     The particles are looked up by id in the model (`Model.particle_positions`;
@@ -382,7 +383,7 @@ class TrackRecorder:
         self.file.close()
 
 
-class ProbeRecorder:
+class ProbeRecorder(Recorder):
     """A Simulation callback sampling one probe spec and appending to its CSV."""
 
     def __init__(self, spec, out_dir, dp):
@@ -617,7 +618,7 @@ def shoreline(counts, zmin, xland, dim, spec, dp, ylim):
     return best
 
 
-class ForceRecorder:
+class ForceRecorder(Recorder):
     """Samples a `ForceGauge` (`Model.body_force`: a pass over the boundary particles on the active
     backend; under MPI summed over the ranks) and appends time, fx, fy, fz to its CSV."""
 
@@ -647,7 +648,7 @@ class ForceRecorder:
         self.file.close()
 
 
-class MaxZRecorder:
+class MaxZRecorder(Recorder):
     """Samples a `MaxZGauge` or a `RunupGauge` (`Model.highest_fluid`: NumPy
     over the host copies of the particle positions; under MPI each rank's
     owned particles, reduced over the ranks) and appends to its CSV."""

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .recorder_state import recorder_state, restore_recorder_files
+from .recorder_state import Recorder, recorder_state, restore_recorder_files
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -147,7 +147,7 @@ def flow_measure(positions, velocities, density, kinds, ids, spec, dim, dp, mass
     return now, crossed, q
 
 
-class FlowRecorder:
+class FlowRecorder(Recorder):
     """Samples a `FlowGauge` (`Model.flow_sample`, NumPy over the host copies of the particle
     arrays; under MPI each rank's owned particles, reduced over the ranks) and appends
     ``time, volume, rate, rate_slab`` to ``flow_<name>.csv``.

@@ -59,6 +59,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .recorder_state import Recorder
+
 HADAMARD_MIN = 1e-3
 """Below this Hadamard ratio of the moment matrix the linear fit falls back to the hydrostatic
 Shepard average (the MLS density filter's threshold, `shoal.physics.filters`)."""
@@ -162,7 +164,7 @@ def sensor_points(centre, normal, diameter, dp, dim):
     return c + U[inside][:, None] * a + V[inside][:, None] * b
 
 
-class PressureSensorRecorder:
+class PressureSensorRecorder(Recorder):
     """Samples a `shoal.probes.PressureSensors` spec and appends time, p_0, p_1, ... [Pa] to its CSV."""
 
     def __init__(self, spec, out_dir, model):

@@ -6,7 +6,8 @@ A recorder keeps its state in a few attributes: a CSV ``file`` (at
 dict (the checkpoint stores arrays as datasets and the rest as JSON);
 `restore_recorder_files` puts them back, the CSV cut to exactly the bytes it
 held at the checkpoint. A recorder with more state (`FlowRecorder`) calls
-both from its own ``checkpoint_state`` / ``restore_checkpoint_state``.
+both from its own ``checkpoint_state`` / ``restore_checkpoint_state``; the others inherit them from
+`Recorder`.
 """
 
 from __future__ import annotations
@@ -81,3 +82,18 @@ def restore_recorder_files(rec, scalars, arrays, backup=None):
     if "ids" in arrays and isinstance(getattr(rec, "ids", None), np.ndarray):
         rec.ids = arrays["ids"]
     return warning
+
+
+class Recorder:
+    """A recorder whose checkpoint state is what `recorder_state` reads of its attributes (its CSV's
+    length, its rows, samples or ids): its ``checkpoint_state`` and ``restore_checkpoint_state``
+    say so. Every stateful callback of a run defines the two methods; one that defines neither (a
+    log line, the progress bar) has no state to save."""
+
+    def checkpoint_state(self):
+        """What a checkpoint keeps of this recorder (`recorder_state`)."""
+        return recorder_state(self)
+
+    def restore_checkpoint_state(self, scalars, arrays, backup=None):
+        """Put the state of `checkpoint_state` back (`restore_recorder_files`); returns a warning or None."""
+        return restore_recorder_files(self, scalars, arrays, backup)

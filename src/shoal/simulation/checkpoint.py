@@ -4,19 +4,21 @@ A checkpoint ``<run>/ckpt_NNNNNN.h5`` (NNNNNN: the step count) holds what a
 run needs to continue **bitwise** as if it had never stopped:
 
 ``particles/<name>``
-    every per-particle array of the `Model` (all ``n_total`` rows, in their
-    current order, including rows of particles that have left the domain):
+    the per-particle arrays the `Model` names as its state
+    (`Model.checkpoint_arrays`; all ``n_total`` rows, in their current
+    order, including rows of particles that have left the domain):
     positions, velocities, densities, kinds, ids, the moving particles'
     initial positions and motion indices, the rate arrays;
 ``integrator/extra_<k>``
     the integrator's state arrays (`Model.extra_arrays`: Verlet's previous
     velocity and density, the symplectic scheme's saved step);
 ``callbacks/<k>/<key>``
-    the array state of callback k (probe rows, test-point samples, tracked
-    ids);
+    the array state of callback k, as its ``checkpoint_state()`` gives it
+    (probe rows, test-point samples, tracked ids);
 ``meta``
     JSON (UTF-8 bytes): time, step count, dt, dt0, the model's active and
-    escaped counts, the integrator's scalars (Verlet's step counter), the
+    escaped counts, the integrator's scalars (its ``checkpoint_state()``:
+    Verlet's step counter), the
     schedule counters of every callback, each callback's scalar state (CSV
     byte lengths, snapshot count), the format version, shoal's version;
 ``case_toml``
@@ -55,7 +57,6 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ShoalError
-from ..probes.recorder_state import recorder_state, restore_recorder_files
 
 FORMAT = "shoal-checkpoint"
 VERSION = 1
@@ -136,7 +137,7 @@ metadata JSON."""
 
 def checkpoint_bytes(n, dim, options, moving=False, probe_values=0, case_bytes=4096):
     """Bytes of one checkpoint of `n` particles, as `capture` writes it: the
-    Model's per-particle arrays (`particle_arrays`: positions float64 [dim];
+    Model's per-particle arrays (`Model.checkpoint_arrays`: positions float64 [dim];
     velocity, acceleration [dim], density, drho/dt, max viscous term, p/rho^2
     in the working precision; kind int8, id int32; XSPH [dim], SPS stress
     (3 or 6) and no-slip wall velocity [dim] when those are on; the moving
@@ -169,39 +170,6 @@ def _is_array(a):
     return hasattr(a, "shape") and hasattr(a, "dtype") and len(getattr(a, "shape", ())) >= 1
 
 
-def particle_arrays(model):
-    """The Model's per-particle arrays by attribute name: every array
-    attribute with ``n_total`` rows (so an array added to the Model later is
-    saved too); the integrator's arrays are `model.extra_arrays`. Not state, so not saved:
-    ``body_of`` (the solid of each particle id, from the case), ``ghost_of`` and ``wall_normal_of``
-    (the mDBC ghost vectors and the walls' unit normals, from the case's geometry) and ``_force`` (a force gauge's work array, refilled at
-    each sample)."""
-    out = {}
-    for name, value in vars(model).items():
-        if name in ("scratch", "extra_arrays", "body_of", "ghost_of", "wall_normal_of", "_force") or not _is_array(value):
-            continue
-        if value.shape[0] == model.n_total:
-            out[name] = value
-    return out
-
-
-def _scalars(obj, skip=()):
-    """JSON-able scalar attributes of `obj` (ints, floats, bools, strings)."""
-    out = {}
-    for k, v in vars(obj).items():
-        if k in skip or k.startswith("__"):
-            continue
-        if isinstance(v, (bool, np.bool_)):
-            out[k] = bool(v)
-        elif isinstance(v, (int, np.integer)):
-            out[k] = int(v)
-        elif isinstance(v, (float, np.floating)):
-            out[k] = _f(v)
-        elif isinstance(v, str):
-            out[k] = v
-    return out
-
-
 def _f(v):
     """A float for JSON: repr round-trips exactly; non-finite as strings."""
     if v is None:
@@ -217,13 +185,14 @@ def _unf(v):
 def callback_state(func):
     """(scalars, arrays) of a callback's recorder state, or None.
 
-    A callback function may define ``checkpoint_state()`` returning a dict
-    (ndarray values become datasets, the rest JSON). Probe recorders are
-    handled by their attributes: a CSV ``file`` (its byte length, so a
-    restart can cut the file back exactly), the in-memory ``rows``, a
-    test-point grid's ``times`` and ``samples``, a tracker's ``ids``.
+    A stateful callback says what it saves: ``checkpoint_state()`` returns
+    a dict (ndarray values become datasets, the rest JSON) and
+    ``restore_checkpoint_state(scalars, arrays, backup)`` puts it back (the
+    probe recorders through `shoal.probes.recorder_state.Recorder`: their
+    CSV's byte length, rows, samples or ids). A callback without it has no
+    state.
     """
-    state = func.checkpoint_state() if hasattr(func, "checkpoint_state") else recorder_state(func)
+    state = func.checkpoint_state() if hasattr(func, "checkpoint_state") else None
     if not state:
         return None
     scalars = {k: v for k, v in state.items() if not isinstance(v, np.ndarray)}
@@ -256,7 +225,7 @@ def capture(sim, case_toml, particles=None, rows=None):
     case_toml : str
         The resolved case file text.
     particles : dict of str -> array, optional
-        The per-particle arrays to save (default: `particle_arrays`).
+        The per-particle arrays to save (default: the model's `checkpoint_arrays`).
     rows : int, optional
         Save only the first `rows` rows of those and of the integrator's
         arrays (default: every row). A rank of an MPI run saves its active
@@ -266,7 +235,7 @@ def capture(sim, case_toml, particles=None, rows=None):
 
     m = sim.model
     ds = {}
-    for name, a in (particle_arrays(m) if particles is None else particles).items():
+    for name, a in (m.checkpoint_arrays() if particles is None else particles).items():
         ds[f"particles/{name}"] = np.array(m.backend.to_host(a, 0, a.shape[0] if rows is None else rows))
     for k, a in enumerate(m.extra_arrays):
         ds[f"integrator/extra_{k}"] = np.array(m.backend.to_host(a, 0, a.shape[0] if rows is None else rows))
@@ -287,7 +256,7 @@ def capture(sim, case_toml, particles=None, rows=None):
         "end_time": _f(sim.end_time), "wall_seconds": _f(sim.elapsed_wall_seconds()),
         "model": {"n": int(m.n), "n_total": int(m.n_total), "n_escaped": int(m.n_escaped), "time": _f(m.time),
                   "dim": int(m.dim), "dtype": np.dtype(m.dtype).str, "backend": m.backend.name},
-        "integrator": {"type": type(sim.integrator).__name__, "scalars": _scalars(sim.integrator, skip=("model",)),
+        "integrator": {"type": type(sim.integrator).__name__, "scalars": sim.integrator.checkpoint_state(),
                        "n_extra": len(m.extra_arrays)},
         "callbacks": cbs,
         "written": _time.strftime("%Y-%m-%dT%H:%M:%S"),
@@ -410,7 +379,7 @@ def restore(sim, ck):
     if mm["n_total"] != m.n_total or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
         raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
                               f"this case has {m.n_total} ({m.dim}D, {np.dtype(m.dtype).str})")
-    arrays = particle_arrays(m)
+    arrays = m.checkpoint_arrays()
     missing = sorted(set(arrays) - set(ck.particles))
     if missing:
         raise CheckpointError(f"{ck.path.name} lacks the particle arrays {', '.join(missing)} (written by another "
@@ -444,8 +413,7 @@ def restore_scalars(sim, ck):
     if it["type"] != type(sim.integrator).__name__ or len(ck.extra) != len(m.extra_arrays):
         raise CheckpointError(f"{ck.path.name} was written with the {it['type']} integrator; this run uses "
                               f"{type(sim.integrator).__name__}")
-    for k, v in it["scalars"].items():
-        setattr(sim.integrator, k, v)
+    sim.integrator.restore_state(it["scalars"])
     m.n = int(mm["n"])
     m.n_escaped = int(mm["n_escaped"])
     m.time = _unf(mm["time"])
@@ -501,9 +469,7 @@ def restore_recorder(rec, scalars, arrays, backup=None):
         A warning if the file held less than at the checkpoint (rows lost
         by the system, e.g. a power cut before they reached the disk).
     """
-    if hasattr(rec, "restore_checkpoint_state"):
-        return rec.restore_checkpoint_state(scalars, arrays, backup)
-    return restore_recorder_files(rec, scalars, arrays, backup)
+    return rec.restore_checkpoint_state(scalars, arrays, backup)
 
 
 def set_aside_csvs(out_dir, skip=()):

@@ -25,11 +25,12 @@ import numpy as np
 
 from ..errors import InstabilityError
 from ..physics.spec import FLUID
+from ..probes.recorder_state import Recorder
 
 HEADER = ["id", "kind", "time", "x", "y", "z", "u", "v", "w"]
 
 
-class EscapedRecorder:
+class EscapedRecorder(Recorder):
     """Append escaped particles to ``out_dir/escaped.csv``; stop the run when
     more than `max_fraction` of the fluid has left.
 

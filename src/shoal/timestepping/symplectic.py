@@ -19,6 +19,14 @@ class Symplectic:
         self.vel0 = model.new_array(model.vel, owner=self)
         self.rho0 = model.new_array(model.rho, owner=self)
 
+    def checkpoint_state(self):
+        """What a checkpoint keeps of the integrator besides its arrays: nothing (each step starts
+        from the saved state n)."""
+        return {}
+
+    def restore_state(self, state):
+        """(Nothing to restore: `checkpoint_state`.)"""
+
     def reset_density_history(self):
         pass
 

@@ -28,6 +28,15 @@ class Verlet:
         self.euler_every = model.options.verlet_euler_every
         self.count = 0
 
+    def checkpoint_state(self):
+        """What a checkpoint keeps: the steps since the last Euler step (and the Euler interval)."""
+        return {"count": int(self.count), "euler_every": int(self.euler_every)}
+
+    def restore_state(self, state):
+        """Continue the Verlet / Euler sequence of a checkpoint (`checkpoint_state`)."""
+        self.count = int(state["count"])
+        self.euler_every = int(state.get("euler_every", self.euler_every))
+
     def reset_density_history(self):
         """After a density filter, restart the two-level density sequence."""
         m = self.model
