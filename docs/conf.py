@@ -103,7 +103,19 @@ def _short_signatures(app, what, name, obj, options, signature, return_annotatio
     return None
 
 
+def _plain_bars(app, what, name, obj, options, lines):
+    """Docstrings write |x| for an absolute value or a norm, which reStructuredText reads as a
+    substitution: escape the bars, except on a table's rows (a line that starts and ends with one)."""
+    import re
+
+    for k, line in enumerate(lines):
+        text = line.strip()
+        if not (text.startswith("|") and text.endswith("|") and len(text) > 1):
+            lines[k] = re.sub(r"(?<!\\)\|", r"\\|", line)
+
+
 def setup(app):
+    app.connect("autodoc-process-docstring", _plain_bars)
     _anchors(app)
     _repository_files(app)
     app.connect("autodoc-process-signature", _short_signatures)

@@ -78,3 +78,37 @@ def test_link_check_sees_links():
     assert list(repo_links(sample)) == [("docs/x.md", "y"), ("f.png", "")]
     assert slug("Which wall for which flow") == "which-wall-for-which-flow"
     assert slug("`shoal validate`: the report") == "shoal-validate-the-report"
+
+
+PUBLIC = ("shoal", "shoal.geometry", "shoal.motions", "shoal.cases", "shoal.probes", "shoal.analysis",
+          "shoal.validation", "shoal.output")
+"""The packages whose ``__all__`` is the public API: each name a docstring, each documented."""
+
+
+def _public_names():
+    import importlib
+    import inspect
+
+    out = []
+    for mod in PUBLIC:
+        m = importlib.import_module(mod)
+        for name in getattr(m, "__all__", []):
+            obj = getattr(m, name)
+            if inspect.isclass(obj) or inspect.isfunction(obj):
+                out.append((mod, name, obj))
+    return out
+
+
+def test_every_public_name_has_a_docstring_and_a_place_in_the_api_reference():
+    """A public class or function (in a public package's ``__all__``) without a docstring, or missing from
+    ``docs/api.md`` (an autodoc directive naming it where it is defined or where it is exported), fails."""
+    api = (ROOT / "docs" / "api.md").read_text()
+    undocumented, missing = [], []
+    for mod, name, obj in _public_names():
+        if not (obj.__doc__ or "").strip():
+            undocumented.append(f"{mod}.{name}")
+        where = {f"{mod}.{name}", f"{obj.__module__}.{obj.__qualname__}"}
+        if not any(re.search(rf"::\s+{re.escape(w)}\s*$", api, re.M) for w in where):
+            missing.append(f"{mod}.{name}")
+    assert not undocumented, "no docstring: " + ", ".join(undocumented)
+    assert not missing, "not in docs/api.md: " + ", ".join(missing)
