@@ -356,3 +356,24 @@ def test_a_checkpoint_written_during_the_run_records_the_wall_time_so_far(tmp_pa
     assert 0 < walls[0] < walls[-1] <= res.wall_seconds
     resumed = shoal.resume_run(tmp_path / "run", end_time=0.03, plot=False, handle_signals=False)
     assert resumed.wall_seconds > res.wall_seconds  # the resumed run counts the first run's time, then its own
+
+
+def test_a_checkpoint_of_an_earlier_version_with_vmax_restores(tmp_path):
+    """The viscous time-step term's array was saved as ``particles/vmax`` before it was named
+    ``mu_max``: such a checkpoint still restores, into ``mu_max``."""
+    from shoal.build import build_model
+    from shoal.cases import dam_break_2d
+    from shoal.simulation.checkpoint import capture, restore, write_checkpoint
+
+    case = dam_break_2d(dp=0.02, end_time=0.05)
+    sim = shoal.Simulation(build_model(case), case.end_time)
+    sim.run(max_steps=3)
+    ds = capture(sim, "")
+    ds["particles/vmax"] = ds.pop("particles/mu_max")
+    path = tmp_path / "ckpt_000003.h5"
+    write_checkpoint(path, ds)
+    again = shoal.Simulation(build_model(case), case.end_time)
+    restore(again, read_checkpoint(path))
+    m, a = sim.model, again.model
+    assert np.array_equal(m.host(m.mu_max), a.host(a.mu_max)) and np.any(m.host(m.mu_max) > 0)
+    assert again.step_count == 3

@@ -36,6 +36,7 @@ from .motions import AnyMotion
 from .probes import AnyProbe
 from .options import SPHOptions
 from .physics.constants import smoothing_length, speed_of_sound
+from .physics.spec import FLUID
 
 def _exact_int(name, allowed):
     def check(v):
@@ -447,7 +448,7 @@ class Case(BaseModel):
             behind = np.zeros(len(p), bool)
             for pl in self.planes:
                 n = np.asarray(pl.normal) * ([1.0, 0.0, 1.0] if self.dim == 2 else 1.0)
-                behind |= (p.kinds == 0) & ((p.positions - np.asarray(pl.point)) @ n < 0.0)
+                behind |= (p.kinds == FLUID) & ((p.positions - np.asarray(pl.point)) @ n < 0.0)
             if behind.any():
                 keep = ~behind
                 p = Particles(p.positions[keep], p.kinds[keep], p.velocities[keep], p.body[keep], p.region[keep],
@@ -479,7 +480,7 @@ class Case(BaseModel):
         m = 2.0 * self.smoothing_length
         lo = p.positions.min(axis=0) - m
         hi = p.positions.max(axis=0) + m
-        fl = p.positions[p.kinds == 0]
+        fl = p.positions[p.kinds == FLUID]
         hi[2] += max(float(np.ptp(fl[:, 2])) if len(fl) else 0.0, m)
         if self.dim == 2:
             lo[1] = hi[1] = 0.0

@@ -14,6 +14,7 @@ import numpy as np
 
 from .memory import case_cell_count, physical_memory, probe_bytes, probe_record_values, probe_samples, solver_bytes
 from .physics.constants import speed_of_sound
+from .physics.spec import MOVING
 from .probes.placement import check_probes
 
 VTU_BYTES_PER_PARTICLE = 84
@@ -43,7 +44,7 @@ def check_case(case):
     axes = [0, 2] if dim == 2 else [0, 1, 2]
     n_cells = case_cell_count(case)
     n = len(p)
-    mem = solver_bytes(n, dim, o, n_cells, moving=bool(np.any(p.kinds == 2)))
+    mem = solver_bytes(n, dim, o, n_cells, moving=bool(np.any(p.kinds == MOVING)))
     dt_c = o.cfl * h / c0
     dt_g = o.cfl * math.sqrt(h / g) if g > 0 else math.inf
     dt = o.fixed_dt if o.fixed_dt is not None else min(dt_c, dt_g)
@@ -76,7 +77,7 @@ def check_case(case):
                  f"; about {steps:,} steps to t = {case.end_time:g} s")
     lines.append(f"  output: {snaps:,} snapshots every {case.output.interval:g} s, about "
                  f"{snaps * n * VTU_BYTES_PER_PARTICLE / 2**20:.3g} MiB")
-    moving = bool(np.any(p.kinds == 2))
+    moving = bool(np.any(p.kinds == MOVING))
     records = sum(probe_record_values(case, s)[0] * probe_samples(case, s) for s in case.probes if s.type != "tracker")
     from .casefile import dumps_case
 

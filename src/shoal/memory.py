@@ -19,6 +19,7 @@ import numpy as np
 
 from .errors import InputError
 from .physics.constants import cell_count
+from .physics.spec import MOVING
 
 BYTES_PER_PARTICLE = 600
 """Peak bytes per particle while a case is generated and run (float64 generation
@@ -159,7 +160,7 @@ def case_cell_count(case):
 def case_solver_bytes(case):
     """Bytes the solver will hold for `case` (generates its particles)."""
     p = case.particles()
-    return solver_bytes(len(p), case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == 2)))
+    return solver_bytes(len(p), case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == MOVING)))
 
 
 NODE_LIMIT = 4e9

@@ -113,7 +113,7 @@ class Model:
         """h = coef_h sqrt(dim) dp [m] (`shoal.physics.constants.smoothing_length`)."""
         return smoothing_length(options.coef_h, dim, dp)
 
-    STATE_ARRAYS = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax", "pr2")
+    STATE_ARRAYS = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "mu_max", "pr2")
     """The per-particle arrays every checkpoint saves (`checkpoint_arrays`); the integrator's are
     `extra_arrays`."""
 
@@ -224,7 +224,7 @@ class Model:
         # rates and work arrays
         self.ace = b.zeros((n, dim), F)
         self.drho = b.zeros(n, F)
-        self.vmax = b.zeros(n, F)
+        self.mu_max = b.zeros(n, F)  # max over the neighbours of |h v_ij.r_ij / (r^2 + eta^2)| [m/s], for dt
         self.pr2 = b.zeros(n, F)
         self.xsph = b.zeros((n, dim) if self.spec.xsph else (1, dim), F)
         self.tau = b.zeros((n, 3 if dim == 2 else 6) if self.spec.sps else (1, 3 if dim == 2 else 6), F)
@@ -439,7 +439,7 @@ class Model:
 
     def nbytes(self):
         """Bytes of particle, work and grid arrays held by the model."""
-        arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.vmax,
+        arrays = [self.pos, self.vel, self.kind, self.idp, self.rho, self.ace, self.drho, self.mu_max,
                   self.pr2, self.xsph, self.tau, self.vwall, *self.scratch.values(), *self.extra_arrays]
         if self.motion_of is not None:
             arrays += [self.pos_init, self.motion_of]
@@ -520,7 +520,7 @@ class Model:
         ghosts, gid0 = self._ghost_args()
         b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                              self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
-                             self.vmax, self.tau, self.planes, self.ptable, self.vwall, self.idp, ghosts, gid0))
+                             self.mu_max, self.tau, self.planes, self.ptable, self.vwall, self.idp, ghosts, gid0))
 
     def _ghost_args(self):
         """(unit-normal table, first id) for the rates and wall forces: with ``riemann`` and wall normals
@@ -538,7 +538,7 @@ class Model:
         o = self.options
         if o.fixed_dt is not None:
             return o.fixed_dt
-        a2, vm = self.backend.dt_terms(self.n, self.ace, self.vmax, self.kind)
+        a2, vm = self.backend.dt_terms(self.n, self.ace, self.mu_max, self.kind)
         h = self.h
         dt_f = math.sqrt(h / math.sqrt(a2)) if a2 > 0 else math.inf
         dt_cv = h / (self.c0 + vm)

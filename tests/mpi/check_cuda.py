@@ -92,7 +92,7 @@ parts = comm.gather(mine, root=0)
 counts = comm.allgather(int(model.n_owned))
 ghosts = comm.allgather(int(model.n_ghost))
 sizes = comm.allgather((int(model._capacity), int(model.resizes), int(model.pos.shape[0]), int(model.grid.capacity),
-                        int(sim.integrator.pos0.shape[0])))
+                        int(sim.integrator.pos_n.shape[0])))
 if rank == 0:
     ids, pos, vel, rho = by_id(*(np.concatenate([q[k] for q in parts]) for k in range(4)))
     saved, par._world = par._world, None  # the single-process CPU run on this rank

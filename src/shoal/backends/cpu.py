@@ -60,7 +60,7 @@ def cache_name(fn):
 
 
 @numba.njit(parallel=True, cache=True)
-def dt_terms(n, ace, vmax, kind):
+def dt_terms(n, ace, mu_max, kind):
     """max |a|^2 over fluid particles and max |h v.r/(r^2+eta^2)|."""
     amax = 0.0
     vm = 0.0
@@ -71,7 +71,7 @@ def dt_terms(n, ace, vmax, kind):
             for d in range(dim):
                 a2 += float(ace[i, d]) ** 2
             amax = max(amax, a2)
-            vm = max(vm, float(vmax[i]))
+            vm = max(vm, float(mu_max[i]))
     return amax, vm
 
 

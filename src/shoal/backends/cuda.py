@@ -233,14 +233,14 @@ class CUDABackend:
             self._seen.add(id(kernel))
 
     # -- reductions
-    def dt_terms(self, n, ace, vmax, kind):
+    def dt_terms(self, n, ace, mu_max, kind):
         """(max |a|^2 over fluid particles, max viscous term) on the device."""
         if n == 0:
             return 0.0, 0.0
         if self._a2 is None or self._a2.shape[0] < len(kind):
             self._a2 = self._cuda.device_array(len(kind), dtype=ace.dtype)
         self._accel2[(n + THREADS - 1) // THREADS, THREADS](n, ace, kind, self._a2)
-        return float(self._max(self._a2[:n])), float(self._max(vmax[:n]))
+        return float(self._max(self._a2[:n])), float(self._max(mu_max[:n]))
 
     def find_bad(self, n, pos, vel, rho, kind, rho_lo, rho_hi):
         """(index, code) of the first unstable particle, or (-1, 0)."""

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..physics.spec import FLUID
 
 CHUNK = 1_000_000
 """Grid nodes sampled per call (bounds the temporary arrays of `Model.sample`)."""
@@ -84,7 +85,7 @@ def surface_mesh(model, spacing=None, level=0.5):
     from skimage import measure
 
     pos, kinds, _ = model.owned_particles()
-    fluid = pos[kinds == 0]
+    fluid = pos[kinds == FLUID]
     if not len(fluid):
         return np.zeros((0, 3)), ("triangle" if model.dim == 3 else "line", np.zeros((0, 3 if model.dim == 3 else 2),
                                                                                      np.int64))

@@ -6,6 +6,8 @@ import os
 
 import numpy as np
 
+from ..physics.spec import FLUID
+
 __all__ = ["plot_particles"]
 
 
@@ -79,7 +81,7 @@ def plot_particles(
         kind = np.asarray(kind).reshape(-1)
         if kind.shape[0] != n:
             raise ValueError(f"kind has {kind.shape[0]} entries, expected {n}")
-        fluid = kind == 0
+        fluid = kind == FLUID
     x, z = pts[:, 0], pts[:, 2]
 
     # Figure shaped roughly like the domain, within sensible limits.

@@ -364,7 +364,7 @@ class DistributedModel(Model):
         """The model's arrays with a row per particle (state, rates, work arrays, the integrator's;
         xsph, tau and vwall when in use), not the neighbour grid's."""
         cap = self._capacity
-        arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.vmax, self.pr2,
+        arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.mu_max, self.pr2,
                   *self.scratch.values(), *self.extra_arrays]
         arrays += [a for a in (self.xsph, self.tau, self.vwall) if a.shape[0] == cap and cap > 1]
         return arrays
@@ -668,7 +668,7 @@ class DistributedModel(Model):
         super().compute_rates()
         g = len(self._ghost_rows)
         if g:
-            rates = [self.ace, self.drho, self.vmax] + ([self.xsph] if self.spec.xsph else [])
+            rates = [self.ace, self.drho, self.mu_max] + ([self.xsph] if self.spec.xsph else [])
             self.backend.zero_rows(rates, self._ghost_rows_b, g)
 
     def time_step_limit(self):

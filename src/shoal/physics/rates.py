@@ -77,7 +77,7 @@ def make_store(jit, spec):
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack, plane_accel=None,
                compact=False):
     """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
-    grid_dims, Parr, ace, drho, xsph, vmax, tau, planes, ptable, vwall, idp, ghosts, gid0)``, which writes
+    grid_dims, Parr, ace, drho, xsph, mu_max, tau, planes, ptable, vwall, idp, ghosts, gid0)``, which writes
     particle i's rates.
 
     `ghosts` is the walls' unit-normal table by particle id less `gid0` (`Model.wall_normal_of`);
@@ -119,7 +119,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
 
     @jit
     def fluid_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
-        ax, ay, az, dr, xx, xy, xz, vmax = acc
+        ax, ay, az, dr, xx, xy, xz, mu_max = acc
         vix, viy, viz, rhoi, pr2i, ti, t0, t1, t2, t3, t4, t5 = own
         vel, rho, pr2, kind, tau, vwall, idp, ghosts, gid0 = data
         r = r2 ** F(0.5)
@@ -140,9 +140,9 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
                 pi_ij *= P.visc_bound
                 lam *= P.visc_bound
                 f = c - P.mass_f * pi_ij * fr
-                vmax = max(vmax, abs(P.h * vdotr * inv_a))
+                mu_max = max(mu_max, abs(P.h * vdotr * inv_a))
                 return (ax + f * dx + lam * ux, ay + f * dy + lam * uy, az + f * dz + lam * uz, dr, xx, xy, xz,
-                        vmax)
+                        mu_max)
         vjx = vel[j, 0]
         vjz = vel[j, dim - 1]
         vjy = sy * vel[j, 1] if dim == 3 else zero
@@ -214,14 +214,14 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             else:
                 ax += c * (sxx * dx + sxz * dz)
                 az += c * (sxz * dx + szz * dz)
-        vmax = max(vmax, abs(P.h * vdotr * inv_a))
+        mu_max = max(mu_max, abs(P.h * vdotr * inv_a))
         if use_xsph:
             # m_j W_ij / rho_ij with rho_ij = (rho_i + rho_j) / 2, between fluid particles
             c = two * fl * mj * w(q, P) * inv_s
             xx -= c * ux
             xy -= c * uy
             xz -= c * uz
-        return ax, ay, az, dr, xx, xy, xz, vmax
+        return ax, ay, az, dr, xx, xy, xz, mu_max
 
     @jit
     def bound_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
@@ -250,7 +250,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
     gather_bound = make_gather(jit, spec, bound_pair)
 
     @jit
-    def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, vmax,
+    def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, mu_max,
                        tau, planes, ptable, vwall, idp, ghosts, gid0):
         P = unpack(Parr)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
@@ -284,14 +284,14 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             else:
                 ace[i, 1] = az + P.gz
             drho[i] = dr
-            vmax[i] = vm
+            mu_max[i] = vm
             if use_xsph:
                 store(xsph, i, P.xsph_eps, xx, xy, xz)
         elif use_mk and kind[i] >= REPULSIVE:
             for d in range(dim):
                 ace[i, d] = zero
             drho[i] = zero
-            vmax[i] = zero
+            mu_max[i] = zero
             if use_xsph:
                 for d in range(dim):
                     xsph[i, d] = zero
@@ -302,7 +302,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             for d in range(dim):
                 ace[i, d] = zero
             drho[i] = dr
-            vmax[i] = zero
+            mu_max[i] = zero
             if use_xsph:
                 for d in range(dim):
                     xsph[i, d] = zero

@@ -12,14 +12,28 @@ from __future__ import annotations
 import math
 from collections import namedtuple
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 
 from .eos import tait_coefficient
 
-FLUID, FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING = 0, 1, 2, 3, 4
-"""Particle kinds: fluid; dynamic boundary particles, fixed or moving; repulsive
-(Monaghan & Kajtar 2009) boundary particles, fixed or moving (kind >= REPULSIVE)."""
+class Kind(IntEnum):
+    """What a particle is (the ``kind`` array, int8; the ``kind`` field of snapshots)."""
+
+    FLUID = 0
+    FIXED = 1
+    """A fixed boundary particle (dynamic, Adami or mDBC walls)."""
+    MOVING = 2
+    """A boundary particle moved by a motion."""
+    REPULSIVE = 3
+    """A fixed repulsive (Monaghan & Kajtar 2009) boundary particle; kind >= REPULSIVE: repulsive."""
+    REPULSIVE_MOVING = 4
+    """A moving repulsive boundary particle."""
+
+
+FLUID, FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING = (int(k) for k in Kind)
+"""The kinds as plain ints, for the compiled kernels (which compare the int8 ``kind`` array with them)."""
 
 KERNEL_IDS = {"wendland": 0, "cubic": 1}
 VISC_IDS = {"artificial": 0, "laminar": 1}

@@ -14,6 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import InputError
+from ..physics.spec import FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING
 
 
 def load_run(run_dir):
@@ -48,8 +49,8 @@ def model_from_snapshot(case, path, backend="cpu"):
     fl = case.fluid
     pos, data = read_vtu(path)
     kinds = np.asarray(data["kind"], np.int8).copy()
-    kinds[kinds == 2] = 1
-    kinds[kinds == 4] = 3
+    kinds[kinds == MOVING] = FIXED
+    kinds[kinds == REPULSIVE_MOVING] = REPULSIVE
     model = Model(np.asarray(pos, float), kinds, dp=case.dp, dim=case.dim, domain=(lo, hi),
                   options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
                   velocities=np.asarray(data["velocity"], float),

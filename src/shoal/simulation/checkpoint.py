@@ -63,6 +63,10 @@ VERSION = 1
 CHECKPOINT_NAME = re.compile(r"^ckpt_(\d+)\.h5$")
 
 
+RENAMED = {"vmax": "mu_max"}
+"""Particle arrays saved under another name by earlier versions (read under the current one)."""
+
+
 class CheckpointError(ShoalError):
     """A checkpoint file that cannot be used (unreadable, truncated, corrupt,
     or written by another case or scheme)."""
@@ -353,7 +357,7 @@ def read_checkpoint(path):
     for name, a in ds.items():
         parts = name.split("/")
         if parts[0] == "particles":
-            ck.particles[parts[1]] = a
+            ck.particles[RENAMED.get(parts[1], parts[1])] = a
         elif parts[0] == "integrator":
             ck.extra.append((int(parts[1].split("_")[1]), a))
         elif parts[0] == "callbacks":

@@ -135,7 +135,7 @@ def read_rank_file(path, digest, manifest):
 
 
 # the per-particle arrays a DistributedModel saves (`checkpoint_arrays`; xsph, tau, vwall when in use)
-PARTICLE_NAMES = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "vmax", "pr2", "xsph", "tau", "vwall")
+PARTICLE_NAMES = ("pos", "vel", "rho", "kind", "idp", "ace", "drho", "mu_max", "pr2", "xsph", "tau", "vwall")
 
 
 def union_of(path, first, parts, rank, escaped_bytes, n_escaped, sort_count, rebalances, source):

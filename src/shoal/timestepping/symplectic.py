@@ -15,9 +15,9 @@ class Symplectic:
 
     def __init__(self, model):
         self.model = model
-        self.pos0 = model.new_array(model.pos, owner=self)
-        self.vel0 = model.new_array(model.vel, owner=self)
-        self.rho0 = model.new_array(model.rho, owner=self)
+        self.pos_n = model.new_array(model.pos, owner=self)
+        self.vel_n = model.new_array(model.vel, owner=self)
+        self.rho_n = model.new_array(model.rho, owner=self)
 
     def checkpoint_state(self):
         """What a checkpoint keeps of the integrator besides its arrays: nothing (each step starts
@@ -31,7 +31,7 @@ class Symplectic:
         pass
 
     def _saved(self):
-        return (self.pos0, self.vel0, self.rho0)
+        return (self.pos_n, self.vel_n, self.rho_n)
 
     def step(self, choose_dt):
         m = self.model

@@ -57,65 +57,65 @@ def make_updates(jit, spec, unpack):
             rho[i] = clamp_bound(rho[i], rnew, Parr)
 
     @jit
-    def save_state(i, pos, vel, rho, pos0, vel0, rho0):
+    def save_state(i, pos, vel, rho, pos_n, vel_n, rho_n):
         for d in range(dim):
-            pos0[i, d] = pos[i, d]
-            vel0[i, d] = vel[i, d]
-        rho0[i] = rho[i]
+            pos_n[i, d] = pos[i, d]
+            vel_n[i, d] = vel[i, d]
+        rho_n[i] = rho[i]
 
     @jit
-    def half_step(i, pos, vel, rho, pos0, vel0, rho0, ace, drho, xsph, kind, dt, Parr):
+    def half_step(i, pos, vel, rho, pos_n, vel_n, rho_n, ace, drho, xsph, kind, dt, Parr):
         """Predictor (both symplectic and predictor-corrector) over dt/2:
         r = r^n + dt/2 (v^n [+ dv_xsph]), v = v^n + dt/2 a^n, rho = rho^n + dt/2 D^n."""
         hdt = half * dt
         if kind[i] == FLUID:
             for d in range(dim):
-                v0 = vel0[i, d]
+                v0 = vel_n[i, d]
                 vx = v0 + xsph[i, d] if use_xsph else v0
-                pos[i, d] = pos0[i, d] + hdt * vx
+                pos[i, d] = pos_n[i, d] + hdt * vx
                 vel[i, d] = v0 + hdt * ace[i, d]
-            rho[i] = rho0[i] + hdt * drho[i]
+            rho[i] = rho_n[i] + hdt * drho[i]
         else:
-            rho[i] = clamp_bound(rho[i], rho0[i] + hdt * drho[i], Parr)
+            rho[i] = clamp_bound(rho[i], rho_n[i] + hdt * drho[i], Parr)
 
     @jit
-    def symplectic_correct(i, pos, vel, rho, pos0, vel0, rho0, ace, drho, xsph, kind, dt, Parr):
+    def symplectic_correct(i, pos, vel, rho, pos_n, vel_n, rho_n, ace, drho, xsph, kind, dt, Parr):
         """Symplectic corrector (Leimkuhler 1996; DualSPHysics):
         v^{n+1} = v^n + dt a^{n+1/2},  r^{n+1} = r^n + dt (v^{n+1} + v^n)/2,
         rho^{n+1} = rho^n (2 - e)/(2 + e),  e = -(D^{n+1/2}/rho^{n+1/2}) dt."""
         e = -(drho[i] / rho[i]) * dt
-        rnew = rho0[i] * (two - e) / (two + e)
+        rnew = rho_n[i] * (two - e) / (two + e)
         if kind[i] == FLUID:
             for d in range(dim):
-                v0 = vel0[i, d]
+                v0 = vel_n[i, d]
                 v1 = v0 + dt * ace[i, d]
                 vm = half * (v1 + v0)
                 vx = vm + xsph[i, d] if use_xsph else vm
-                pos[i, d] = pos0[i, d] + dt * vx
+                pos[i, d] = pos_n[i, d] + dt * vx
                 vel[i, d] = v1
             rho[i] = rnew
         else:
             rho[i] = clamp_bound(rho[i], rnew, Parr)
 
     @jit
-    def pc_correct(i, pos, vel, rho, pos0, vel0, rho0, ace, drho, xsph, kind, dt, Parr):
+    def pc_correct(i, pos, vel, rho, pos_n, vel_n, rho_n, ace, drho, xsph, kind, dt, Parr):
         """Predictor-corrector corrector (Monaghan 1994, SPHysics):
         phi^{n+1/2} = phi^n + dt/2 F^{n+1/2}, then phi^{n+1} = 2 phi^{n+1/2} - phi^n,
         with positions advanced by v^{n+1/2} (+ XSPH)."""
         hdt = half * dt
         if kind[i] == FLUID:
             for d in range(dim):
-                v0 = vel0[i, d]
+                v0 = vel_n[i, d]
                 vh = v0 + hdt * ace[i, d]
                 vx = vh + xsph[i, d] if use_xsph else vh
-                ph = pos0[i, d] + hdt * vx
-                pos[i, d] = two * ph - pos0[i, d]
+                ph = pos_n[i, d] + hdt * vx
+                pos[i, d] = two * ph - pos_n[i, d]
                 vel[i, d] = two * vh - v0
-            rh = rho0[i] + hdt * drho[i]
-            rho[i] = two * rh - rho0[i]
+            rh = rho_n[i] + hdt * drho[i]
+            rho[i] = two * rh - rho_n[i]
         else:
-            rh = rho0[i] + hdt * drho[i]
-            rho[i] = clamp_bound(rho[i], two * rh - rho0[i], Parr)
+            rh = rho_n[i] + hdt * drho[i]
+            rho[i] = clamp_bound(rho[i], two * rh - rho_n[i], Parr)
 
     @jit
     def move_bodies(i, pos, vel, kind, idp, pos_init, motion_of, disp, mvel):

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..physics.spec import FLUID
 from . import runs
 from .core import Metric, ValidationCase, figure, save_png
 
@@ -81,7 +82,7 @@ def start_at_rest(model, wave, depth, shore):
     model's initial density is that of a flat surface at `depth`); they are at rest as the wave is."""
     from ..physics.eos import density_of
 
-    fluid = model.host(model.kind) == 0
+    fluid = model.host(model.kind) == FLUID
     p = model.world_positions()[fluid]
     z_s = depth + np.nan_to_num(wave.rundown_surface(shore - p[:, 0]), nan=-np.inf)
     rho = model.host(model.rho)

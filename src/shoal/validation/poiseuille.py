@@ -6,6 +6,7 @@ import time
 
 import numpy as np
 
+from ..physics.spec import FLUID
 from . import runs
 from .core import Metric, ValidationCase, figure, save_png
 
@@ -82,7 +83,7 @@ class Poiseuille(ValidationCase):
             sim = Simulation(m, T_END)
             sim.run()
             pos, vel = m.world_positions(), m.world_velocities()
-            fl = m.host(m.kind) == 0
+            fl = m.host(m.kind) == FLUID
             return dict(z=pos[fl, 2], u=vel[fl, 0], w=vel[fl, 2], n=n, steps=sim.step_count, escaped=m.n_escaped,
                         seconds=time.perf_counter() - t0)
 
