@@ -1,13 +1,16 @@
 """The loop kernels every backend offers, built from the shared physics.
 
 `attach_loops` compiles the per-particle functions of `shoal.physics` and
-`shoal.timestepping.updates` with a backend's decorator and wraps each in
+`shoal.timestepping.updates` (the integrators' updates) with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
 (``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
 ``half_step``, ``symplectic_correct``, ``pc_correct``) from one source.
 """
 
 from ..physics import build_physics
+from ..physics.body_motion import make_body_motion
+from ..physics.damping import make_damping
+from ..physics.periodic_wrap import make_periodic_wrap
 from ..timestepping.updates import make_updates
 
 PHYSICS_LOOPS = {"pr2": "particle_pr2", "rates": "particle_rates", "shepard": "shepard", "mls": "mls",
@@ -35,6 +38,9 @@ def attach_loops(backend, jit, for_each, spec, target):
         setattr(backend, name, for_each(getattr(phys, fn)))
     for name, fn in make_updates(phys.named_jit, spec, phys.unpack).items():
         setattr(backend, name, for_each(fn))
+    backend.move_bodies = for_each(make_body_motion(phys.named_jit, spec))
+    backend.wrap_periodic = for_each(make_periodic_wrap(phys.named_jit, spec, phys.unpack))
+    backend.damp = for_each(make_damping(phys.named_jit, spec))
 
 
 def row_columns(arrays):

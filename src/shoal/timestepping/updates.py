@@ -11,7 +11,7 @@ keep it as the last rate evaluation set it. With XSPH the particles move
 with v + dv_xsph.
 """
 
-from ..physics.spec import FLUID, MOVING, REPULSIVE_MOVING
+from ..physics.spec import FLUID
 
 
 def make_updates(jit, spec, unpack):
@@ -117,65 +117,5 @@ def make_updates(jit, spec, unpack):
             rh = rho_n[i] + hdt * drho[i]
             rho[i] = clamp_bound(rho[i], two * rh - rho_n[i], Parr)
 
-    @jit
-    def move_bodies(i, pos, vel, kind, idp, pos_init, motion_of, disp, mvel):
-        """Prescribed rigid motion of moving boundary particles:
-        r = r(0) + X_m(t), v = U_m(t) for the motion m of the particle's body
-        (positions from the initial ones, so no drift accumulates)."""
-        if kind[i] == MOVING or kind[i] == REPULSIVE_MOVING:
-            p = idp[i]
-            m = motion_of[p]
-            for d in range(dim):
-                pos[i, d] = pos_init[p, d] + disp[m, d]
-                vel[i, d] = mvel[m, d]
-
-    px = bool(spec.periodic & 1)
-    py = bool(spec.periodic & 2) and dim == 3
-    sym = spec.symmetry if dim == 3 else 0
-
-    @jit
-    def wrap_periodic(i, pos, vel, lo_x, lo_y, Parr):
-        """Bring a particle that crossed a periodic face back by one period:
-        x -> x - L if x >= lo + L, x -> x + L if x < lo."""
-        P = unpack(Parr)
-        if px:
-            x = pos[i, 0]
-            if x >= lo_x + P.per_len_x:
-                pos[i, 0] = x - P.per_len_x
-            elif x < lo_x:
-                pos[i, 0] = x + P.per_len_x
-        if py:
-            y = pos[i, 1]
-            if y >= lo_y + P.per_len_y:
-                pos[i, 1] = y - P.per_len_y
-            elif y < lo_y:
-                pos[i, 1] = y + P.per_len_y
-        if sym != 0:
-            # a particle that crossed the symmetry plane comes back as its mirror image
-            y = pos[i, 1]
-            if (sym == 1 and y > P.sym_y) or (sym == 2 and y < P.sym_y):
-                pos[i, 1] = 2.0 * P.sym_y - y
-                vel[i, 1] = -vel[i, 1]
-
-    @jit
-    def damp(i, pos, vel, kind, sx, sy, sz, ex, ey, ez, inv_len, rate, dt):
-        """Damping zone (as DualSPHysics's): a fluid particle a fraction f in [0, 1]
-        of the way into the zone (from the start plane, along e) has its velocity
-        multiplied by max(1 - dt rate f^2, 0) each step."""
-        if kind[i] == FLUID:
-            if dim == 3:
-                s_ = (pos[i, 0] - sx) * ex + (pos[i, 1] - sy) * ey + (pos[i, 2] - sz) * ez
-            else:
-                s_ = (pos[i, 0] - sx) * ex + (pos[i, 1] - sz) * ez
-            f = s_ * inv_len
-            if f > 0.0:
-                if f > 1.0:
-                    f = 1.0
-                k = 1.0 - dt * rate * f * f
-                if k < 0.0:
-                    k = 0.0
-                for d in range(dim):
-                    vel[i, d] = F(vel[i, d] * k)
-
-    return dict(damp=damp, wrap_periodic=wrap_periodic, verlet=verlet, save_state=save_state, half_step=half_step,
-                symplectic_correct=symplectic_correct, pc_correct=pc_correct, move_bodies=move_bodies)
+    return dict(verlet=verlet, save_state=save_state, half_step=half_step, symplectic_correct=symplectic_correct,
+                pc_correct=pc_correct)
