@@ -83,7 +83,7 @@ def run_bore(U, dp, end_time, tmp_path, options=None, breaking=False):
 @pytest.mark.validation
 @pytest.mark.parametrize("U,end_time", [(0.3, 1.3), (0.7, 1.6)])
 def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
-    """(`-m validation`: 2-4 min each on a shared core, kept out of CI's 20 minutes, 2026-12-04; in CI the
+    """(`-m validation`: 2-4 min each on a shared core, kept out of the README's test command; in CI the
     undular bore runs with the Adami walls, `test_undular_bore_one_scheme_quick`, and both bores'
     celerity and level at d0/10 are the `tidal-bores` entry of `shoal validate --quick`.)
 
@@ -92,23 +92,7 @@ def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
     the first above d1, its water far slower than the front (breaking index B = max u_crest / c well
     below 1) -- and the U = 0.7 m/s bore (Fr 1.59) breaking: its crest water overtakes the front (B >= 1,
     the kinematic breaking criterion; `shoal.analysis.crest_speed_ratio`).
-
-    Measured (2026-12-02, d0/10): U = 0.3 m/s: celerity -1.8 %, level +1.2 %, first crest 8.5 % above d1,
-    B = 0.24 at most; U = 0.7 m/s: celerity -2.2 %, level -1.4 %, B above 1 from t = 1.2 s, up to 1.78.
-    With alpha = 0.1 (the built-in default; U = 0.3 m/s at d0/10: celerity -0.8 %, level +1.1 %, first
-    crest 6.5 % above d1, and at d0/20 in `test_bore_celerity_and_conjugate_depth`) the U = 0.7 m/s bore
-    has B <= 0.27: it never breaks. At d0/20 (2026-12-02, 34 min on a loaded thread) the same scheme breaks
-    earlier and harder (B > 1 from t = 0.55 s, up to 1.94; level -1.1 %) but the front, timed between the
-    0.5 and 1.0 m gauges only (the 1.5 m gauge is reached after 1.6 s), runs 24 % fast while the breaking
-    bore forms (0.08 s late at 0.5 m, 0.03 s early at 1.0 m): not asserted here. In a 5 m flume at d0/10
-    (`tidal_bore(length=5.0, gauges_x=...)`, to 3.4 s) the breaking front's speed pulsates from gauge to
-    gauge (-1.8, +9.5, +4.1, +1.3 % over 0.5 m spans) and averages +3.8 % over 0.5-2.5 m (+2.7 % over
-    1.5-2.5 m), level -2.9 % at 1 m: the 3 % holds on this test's gauges, not yet over a longer run.
-    At d0/20 in the 5 m flume (`benchmarks/breaking_bore.py --dp 0.005 --length 5`, 51 min on 2 threads)
-    the settled front's celerity over 1.0-2.5 m is +0.7 % and the level behind it -3.0 to -6.5 %: the
-    inflow ahead of the bore slows near the bed (to 0.28 m/s in the lowest 2 cm by t = 2.5 s); without
-    the MLS filter the level is within 3 % at d0/10 but still -3.2 to -5.3 % at d0/20
-    (benchmarks/results/notes/README.md, Validation)."""
+    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests"."""
     dc, dl, n, first, index = run_bore(U, 0.01, end_time, tmp_path, options=LOW_ALPHA, breaking=True)
     assert abs(dc) < 0.03 and abs(dl) < 0.03
     if U < 0.5:
@@ -122,13 +106,7 @@ def test_bore_undular_or_breaking_quick(U, end_time, tmp_path):
 def test_bore_celerity_and_conjugate_depth(U, tmp_path):
     """dp = d0/20 = 5 mm, the paper's resolution, to t = 1.6 s: celerity and conjugate depth within
     3 % of the bore relations, and the U = 0.3 m/s bore undular.
-
-    Measured (2026-11-23): U = 0.3 m/s: celerity -2.6 %, level +0.7 %, first crest 9.1 % above d1,
-    2 crests; U = 0.7 m/s: celerity +0.6 %, level -0.1 % (69 min on a loaded 2-core machine). The
-    U = 0.7 m/s bore does NOT break in this 2D section: its front overshoots d1 by 18.8 % with
-    secondary crests, and near the front no particle moves faster than a quarter of the bore's
-    celerity (no overturning, the kinematic breaking criterion; checked at dp = d0/10), so breaking
-    is not asserted -- an open item (the paper's breaking bore is 3D, with SPS)."""
+    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests"."""
     dc, dl, n, first, _ = run_bore(U, 0.005, 1.6, tmp_path)
     assert abs(dc) < 0.03 and abs(dl) < 0.03
     if U < 0.5:
@@ -143,16 +121,8 @@ t = 2.5 s; over this bed it keeps 0.69-0.70 m/s to the end (`benchmarks/bed_drag
 
 def test_undular_bore_one_scheme_quick(tmp_path):
     """The quick version of `test_bores_at_the_paper_resolution_one_scheme`: the same scheme (`ADAMI`),
-    flume and measures at dp = d0/10, for the U = 0.3 m/s bore. Measured (2026-12-03, 92 s on 2 threads):
-    celerity -1.6 % (10 snapshots), clear-water depth -0.2 / +1.3 / +0.5 % at 0.5 / 1 / 1.5 m, B <= 0.23.
-
-    The breaking bore is not in the quick version: at d0/10 its front pulsates with the roller over
-    spans longer than a short run can average (0.5 m spans in a 5 m flume: -4.5, +25.1, -9.4, -5.6 %).
-    Tracked over 1.0-2.75 m of a 5 m flume its celerity is -0.1 % and its clear-water depth +2.1 / +0.1
-    / -2.1 / +0.2 % (`benchmarks/breaking_bore.py --dp 0.01 --length 5 --options '{"wall_pressure":
-    "adami"}'`, 4 min on 2 threads), but over 1.0-1.9 m of a 4 m flume, which would fit here, it is
-    +7.6 %. In the paper's 3 m flume, timed by the three gauges to 1.6 s, it is -4.3 % (level -0.8 %,
-    breaking from t = 1.0 s); `test_bore_undular_or_breaking_quick` keeps the DBC walls there."""
+    flume and measures at dp = d0/10, for the U = 0.3 m/s bore.
+    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests"."""
     run_bores_one_scheme(0.3, 3.0, 0.01, tmp_path)
 
 
@@ -168,22 +138,7 @@ def test_bores_at_the_paper_resolution_one_scheme(U, L, tmp_path):
     unit length within 5 cm of it (`shoal.analysis.volume_depth`, the d1 of the mass balance). The
     U = 0.3 m/s bore is undular (secondary crests, the first above d1, B well below 1), the U = 0.7 m/s
     one breaks (B >= 1).
-
-    Measured (2026-12-03, 2 threads):
-    - U = 0.3 m/s (13,610 particles, 42,946 steps, 11 min): celerity -1.1 % (10 snapshots; gauges'
-      arrivals over 1.0-2.0 m -0.6 %); clear-water depth +0.6 / +0.5 / +0.3 % at 0.5 / 1 / 1.5 m (gauge
-      levels -0.1 / +0.2 / +0.8 %); 2 crests, the first 11.0 % above d1; B <= 0.27.
-    - U = 0.7 m/s (22,410 particles, 74,604 steps, 44 min): celerity +0.2 % (18 snapshots over
-      1.0-2.75 m; +2.2 % over 0.5-2.75 m; from the gauges' arrivals -2.9 % over 1.0-2.5 m, spans of 0.5 m
-      pulsating -5.8 / +0.4 / -4.1 %); clear-water depth +0.1 / -1.4 / -0.1 / -0.7 % at 0.5 / 1 / 1.5 /
-      2 m; B >= 1 from t = 0.6 s, up to 1.94. The gauges (kernel-sum surface) read -1.9 / -5.6 / -2.0 /
-      -2.2 %: below the volume in the broken water, as the paper says of its own breaking-bore gauges
-      (the exact water surface is hard to capture "due to the free surface fragmentations").
-    The lowest 2 cm of the inflow ahead of the fronts keep 0.69-0.70 m/s (0.296-0.300 m/s) to the end.
-    The U = 0.7 m/s run with DBC walls (`LOW_ALPHA`; 2026-12-02): celerity +0.7 % from the gauges over
-    1.0-2.5 m, gauge levels -3.0 to -6.5 %, the near-bed inflow down to 0.28 m/s by t = 2.5 s. The
-    numbers of every snapshot: `python benchmarks/breaking_bore.py --dp 0.005 --length 5 --options
-    '{"wall_pressure": "adami"}'` (and `--U 0.3 --length 3`)."""
+    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests"."""
     run_bores_one_scheme(U, L, 0.005, tmp_path)
 
 
