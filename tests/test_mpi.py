@@ -962,3 +962,17 @@ def test_periodic_x_on_two_and_three_ranks_matches_one(mpiexec, tmp_path):
         assert np.abs(dx).max() <= 1e-6 * dp and np.abs(dv).max() <= 1e-6, name
     log = (tmp_path / "three" / "run.log").read_text()
     assert "3 MPI ranks" in log
+
+
+def test_the_distributed_model_overrides_no_physics_method():
+    """Issue 29: `DistributedModel` takes part in the physics through the Model's hooks (ghost refresh,
+    reductions, raising together), not by overriding the physics methods."""
+    from shoal.model import Model
+    from shoal.parallel.model import DistributedModel
+
+    physics = ("compute_rates", "time_step_limit", "apply_filter", "check", "free_surface", "body_force",
+               "apply_damping", "move_bodies", "wall_forces")
+    assert all(hasattr(Model, m) for m in physics)
+    assert not [m for m in physics if m in vars(DistributedModel)]
+    hooks = ("refresh_ghosts", "ghosts_spent", "clear_ghost_rates", "reduce", "raise_together")
+    assert all(h in vars(Model) and h in vars(DistributedModel) for h in hooks)

@@ -386,6 +386,8 @@ class Model:
     def free_surface(self):
         """(n,) int8 flags of the active particles: 1 on the free surface (Marrone et
         al. 2010 as in the rip-current paper, `shoal.physics.free_surface`), else 0."""
+        self.refresh_ghosts()
+        self.ghosts_spent()
         b = self.backend
         out = self.scratch[(np.dtype(np.int8).str, 0)]
         wet = self.scratch[(np.dtype(np.int32).str, 0)]  # free between sorts
@@ -499,8 +501,37 @@ class Model:
                                        f"{self.grid.lo.tolist()} - {self.grid.hi.tolist()} m")
         return n
 
+    # ------------------------------------------------ what a model spread over processes fills in
+    # A Model holds every particle; `shoal.parallel.model.DistributedModel` holds a rank's slab and copies
+    # of its neighbours' particles (ghosts), and takes part in the physics only through these hooks.
+    def refresh_ghosts(self, always=True):
+        """Before a pass that reads the neighbours' current values: bring the ghosts up to date (`always`:
+        even if the last sort has just done so). One process: nothing."""
+
+    def ghosts_spent(self):
+        """After such a pass: the ghosts' values are no longer current (the next pass refreshes them)."""
+
+    def clear_ghost_rates(self):
+        """After the rates: the ghosts' rates belong to their owners (a distributed model zeroes them)."""
+
+    def reduce(self, value, op="min"):
+        """`value` combined over the processes of the run (`op`: "min", "max", "sum"); one process: itself."""
+        return value
+
+    def raise_together(self, message):
+        """Raise `InstabilityError(message)` where a check failed (`message` not None); a distributed model
+        raises on every rank, with the first failing rank's message."""
+        if message is not None:
+            raise InstabilityError(message)
+
     def compute_rates(self):
         """Evaluate d rho/dt, dv/dt (and XSPH) of the active particles."""
+        self.refresh_ghosts(always=False)
+        self.ghosts_spent()
+        self._rates()
+        self.clear_ghost_rates()
+
+    def _rates(self):
         b, n, P = self.backend, self.n, self.P
         if self.spec.wall_pressure == ADAMI:
             motion_of = self.motion_of if self.motion_of is not None else self._no_motion_of
@@ -545,28 +576,34 @@ class Model:
         dt = o.cfl * min(dt_f, dt_cv)
         if o.viscosity == "laminar" and o.nu > 0:
             dt = min(dt, 0.125 * h * h / o.nu)
-        return dt
+        return self.reduce(dt, "min")
 
     def apply_filter(self, kind):
         """Re-initialise fluid density with the "shepard" or "mls" filter."""
+        self.refresh_ghosts()
         b, n, P = self.backend, self.n, self.P
         out = self.scratch[(np.dtype(self.dtype).str, 0)]
         kernel = b.shepard if kind == "shepard" else b.mls
         b.timed(kernel, n, (self.pos, self.rho, self.kind, self.grid.cell, self.grid.cell_start,
                             self.grid.gdims_arr, P, out))
         b.copy_into(self.rho, out, n)
+        self.ghosts_spent()
 
     def check(self, step, time):
         """Raise InstabilityError naming the first particle with NaN/inf state
         or a fluid density outside the sane band (0.7 rho0, 1.3 rho0)."""
+        self.raise_together(self._bad_particle(step, time))
+
+    def _bad_particle(self, step, time):
+        """The message of `check` for this process's first bad particle, or None."""
         i, code = self.backend.find_bad(self.n, self.pos, self.vel, self.rho, self.kind, *self.rho_range)
         if i < 0:
-            return
+            return None
         where = Model.world_positions(self)[i]  # row i of all the rows scanned (under MPI: ghosts included)
         what = "non-finite position, velocity or density" if code == 1 else (
             f"density {float(self.host(self.rho, i, i + 1)[0]):.6g} kg/m^3 outside the sane band "
             f"[{self.rho_range[0]:.4g}, {self.rho_range[1]:.4g}]")
-        raise InstabilityError(
+        return (
             f"unstable at step {step}, t = {time:.6g} s: "
             f"{KIND_NAMES.get(int(self.host(self.kind, i, i + 1)[0]), 'particle')} "
             f"particle id {int(self.host(self.idp, i, i + 1)[0])} at (x, y, z) = ({where[0]:.4g}, {where[1]:.4g}, {where[2]:.4g}) m "
@@ -710,7 +747,7 @@ class Model:
         order; `body_of` maps each particle id to its solid, -1 for fluid): the sum of `wall_forces`
         over its particles."""
         f, ids = self.wall_forces()
-        return f[self.body_of[ids] == body].sum(axis=0)
+        return np.asarray(self.reduce(f[self.body_of[ids] == body].sum(axis=0), "sum"), float)
 
     @property
     def particle_volume(self):

@@ -661,42 +661,35 @@ class DistributedModel(Model):
         self._halo_fresh = True
         return self.n_owned
 
-    def compute_rates(self):
-        if not self._halo_fresh:
+    # ---------------------------------------------------------------- the Model's hooks
+    def refresh_ghosts(self, always=True):
+        """Refresh the halo's values from their owners (unless the last sort has just done so and
+        `always` is false)."""
+        if always or not self._halo_fresh:
             self._refresh_halo()
+
+    def ghosts_spent(self):
         self._halo_fresh = False
-        super().compute_rates()
+
+    def clear_ghost_rates(self):
+        """Zero the ghosts' rates: each particle's rates are its owner's."""
         g = len(self._ghost_rows)
         if g:
             rates = [self.ace, self.drho, self.mu_max] + ([self.xsph] if self.spec.xsph else [])
             self.backend.zero_rows(rates, self._ghost_rows_b, g)
 
-    def time_step_limit(self):
-        return self.allreduce(super().time_step_limit(), "min")
+    def reduce(self, value, op="min"):
+        """`value` over every rank (`allreduce`; collective)."""
+        return self.allreduce(value, op)
 
-    def apply_filter(self, kind):
-        self._refresh_halo()
-        super().apply_filter(kind)
-        self._halo_fresh = False
-
-    def check(self, step, time):
-        """Collective: every rank raises the first rank's InstabilityError."""
-        msg = None
-        try:
-            super().check(step, time)
-        except InstabilityError as err:
-            msg = str(err)
+    def raise_together(self, message):
+        """Collective: every rank raises the first failing rank's message, as a `CollectiveError`."""
         t0 = _time.perf_counter()
-        msgs = self.comm.allgather(msg)
+        msgs = self.comm.allgather(message)
         self.comm_seconds += _time.perf_counter() - t0
         for k, m in enumerate(msgs):
             if m is not None:
                 raise CollectiveError(f"{m} (MPI rank {k})")
-
-    def free_surface(self):
-        self._refresh_halo()
-        self._halo_fresh = False
-        return super().free_surface()
 
     def sample(self, points, shepard=True):
         """SPH interpolation at fixed points, the same on every rank (collective)."""
@@ -863,10 +856,6 @@ class DistributedModel(Model):
 
     def _owned_rows(self):
         return self.owned
-
-    def body_force(self, body):
-        """The force on solid `body` summed over every rank's owned particles (collective)."""
-        return np.asarray(self.allreduce(super().body_force(body), "sum"), float)
 
     @property
     def n_ids(self):
