@@ -574,6 +574,29 @@ def test_free_surface_flags_match_cpu():
 
 
 @needs_cuda
+def test_growing_the_device_arrays_mid_run_changes_nothing():
+    """Device arrays cannot grow in place: `ParticleStore.resize` allocates new ones, copies the active
+    rows and re-points every reference (the model's, ``scratch``, the integrator's, the grid's). A CUDA
+    run whose arrays grew between two steps goes on bitwise as one whose arrays did not."""
+    case = dam_break_2d(dp=A / 4, a=A, layers=2, end_time=1.0,
+                        options=SPHOptions(precision="float32", integrator="symplectic", xsph=0.5))
+    kept, grown = build_model(case, "cuda"), build_model(case, "cuda")
+    runs = [Simulation(m, 1.0).run(max_steps=3) for m in (kept, grown)]
+    old = {id(a) for a in grown.per_particle_arrays()}
+    grown.store.resize(2 * grown.capacity)
+    arrays = grown.per_particle_arrays()
+    assert all(a.shape[0] == grown.capacity for a in arrays) and not old & {id(a) for a in arrays}
+    integ = runs[1].integrator
+    assert all(getattr(integ, k) is a for k, a in zip(("pos_n", "vel_n", "rho_n"), grown.extra_arrays))
+    assert grown.grid.capacity == grown.capacity
+    for sim in runs:
+        sim.run(max_steps=3)
+    assert np.max(np.abs(_by_id(kept, kept.vel))) > 0.01
+    for name in ("pos", "vel", "rho"):
+        assert np.array_equal(_by_id(kept, getattr(kept, name)), _by_id(grown, getattr(grown, name))), name
+
+
+@needs_cuda
 def test_resume_from_checkpoint_is_bitwise_on_cuda(tmp_path):
     """A CUDA run stopped after 5 steps (checkpoint) and resumed for 3 more ends bitwise equal to an
     uninterrupted 8-step CUDA run (device arrays saved and restored in their sorted order; the Verlet

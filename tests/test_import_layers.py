@@ -26,11 +26,12 @@ LAYERS = [
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
     ["shoal.geometry", "shoal.physics", "shoal.neighbours", "shoal.backends", "shoal.timestepping", "shoal.options",
      "shoal.motions", "shoal.analysis", "shoal.output", "shoal.memory", "shoal.simulation.resources",
-     "shoal.parallel.decomposition", "shoal.parallel.gpu"],
+     "shoal.parallel.decomposition", "shoal.parallel.gpu", "shoal.particle_store"],
     # 2: cases as data
     ["shoal.probes", "shoal.case", "shoal.casefile", "shoal.cases", "shoal.advice"],
     # 3: the model of particles and scheme
-    ["shoal.model", "shoal.parallel.collective", "shoal.parallel.halo"],
+    ["shoal.model", "shoal.parallel.collective", "shoal.parallel.halo", "shoal.parallel.timed_comm",
+     "shoal.parallel.migration", "shoal.parallel.rebalancer"],
     ["shoal.parallel.model", "shoal.build"],
     # 5: the time loop, its callbacks and checkpoints
     ["shoal.simulation", "shoal.parallel.checkpoint"],

@@ -463,7 +463,7 @@ def test_instability_is_collective(mpiexec, tmp_path):
 def test_rebalance_settings():
     """Load-balancing settings: arguments, then the environment, then the defaults; bad values are one line."""
     from shoal.errors import InputError
-    from shoal.parallel.model import rebalance_settings
+    from shoal.parallel.rebalancer import rebalance_settings
 
     assert rebalance_settings(environ={}) == (20, 1.1)
     assert rebalance_settings(environ={"SHOAL_MPI_REBALANCE_INTERVAL": "7",

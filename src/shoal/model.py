@@ -18,6 +18,7 @@ import numpy as np
 from .backends import get_backend
 from .errors import InputError, InstabilityError
 from .options import SPHOptions
+from .particle_store import ParticleStore
 from .physics.constants import particle_mass, reference_speed, smoothing_length, speed_of_sound
 from .physics.eos import GAMMA, density_of, pressure_of, tait_coefficient
 from .physics.spec import (ADAMI, FIXED, FLUID, MDBC, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec,
@@ -238,6 +239,7 @@ class Model:
         }
         self.extra_arrays = []  # integrator state arrays that follow the sort
         self.array_owners = []  # objects holding extra_arrays as attributes (see new_array)
+        self.store = ParticleStore(self, n)  # the per-particle arrays' capacity and growth
         self.time = 0.0  # simulated time of the state (set by the Simulation)
         self.n = n
         self.n_escaped = 0
@@ -435,6 +437,21 @@ class Model:
         """Number of active fluid particles."""
         return int(np.count_nonzero(self.host(self.kind) == FLUID))
 
+    @property
+    def capacity(self):
+        """Rows each per-particle array holds (`ParticleStore`): the active particles, then room."""
+        return self.store.capacity
+
+    def per_particle_arrays(self):
+        """The arrays with a row per particle that `ParticleStore` sizes together: the state, the
+        rates, the work arrays, the integrator's (``extra_arrays``) and, where the scheme keeps
+        them, the XSPH velocity, SPS stress and no-slip wall velocity. Not the arrays indexed by
+        particle id (``pos_init``, ``motion_of``, ``ghost_of``) nor the neighbour grid's."""
+        arrays = [self.pos, self.vel, self.rho, self.kind, self.idp, self.ace, self.drho, self.mu_max, self.pr2,
+                  *self.scratch.values(), *self.extra_arrays]
+        return arrays + [a for a, kept in ((self.xsph, self.spec.xsph), (self.tau, self.spec.sps),
+                                           (self.vwall, self.spec.no_slip)) if kept]
+
     def host(self, array, start=0, stop=None):
         """Rows start..stop (default: the active particles) of a particle array, as NumPy."""
         return self.backend.to_host(array, start, self.n if stop is None else stop)
@@ -456,10 +473,9 @@ class Model:
         like : backend array
             The array to copy (shape, dtype and contents).
         owner : object, optional
-            The object that keeps the array as an attribute (an integrator): a
-            model that reallocates its particle arrays (the CUDA
-            `shoal.parallel.model.DistributedModel`, whose arrays follow its
-            rank's particle count) re-points that attribute to the new array.
+            The object that keeps the array as an attribute (an integrator):
+            when the device arrays grow (`ParticleStore.resize`), that
+            attribute is re-pointed to the new array.
         """
         a = self.backend.copy(like)
         self.extra_arrays.append(a)
@@ -496,7 +512,7 @@ class Model:
             self.n = n
             if self.on_escape is not None:
                 self.on_escape(self, n, n_before)
-            if self.n_fluid == 0:
+            if self.require_fluid and self.n_fluid == 0:
                 raise InstabilityError("every fluid particle has left the domain box "
                                        f"{self.grid.lo.tolist()} - {self.grid.hi.tolist()} m")
         return n
@@ -650,7 +666,7 @@ class Model:
         out = {name: getattr(self, name) for name in self.STATE_ARRAYS}
         for name in ("xsph", "tau", "vwall"):
             a = getattr(self, name)
-            if a.shape[0] == self.n_total and self.n_total > 1:
+            if a.shape[0] == self.capacity and self.capacity > 1:
                 out[name] = a
         if self.motion_of is not None:
             out["pos_init"], out["motion_of"] = self.pos_init, self.motion_of

@@ -26,7 +26,8 @@ import numpy as np
 import shoal
 import shoal.parallel as par
 from shoal.cases import dam_break_2d
-from shoal.parallel.model import BOUNDARY_WEIGHT, DistributedModel
+from shoal.parallel.decomposition import BOUNDARY_WEIGHT
+from shoal.parallel.model import DistributedModel
 from shoal.physics.spec import FLUID
 from shoal.runner import build_model
 
@@ -91,7 +92,7 @@ probe = model.sample(POINTS)  # collective: each point from the rank whose slab 
 parts = comm.gather(mine, root=0)
 counts = comm.allgather(int(model.n_owned))
 ghosts = comm.allgather(int(model.n_ghost))
-sizes = comm.allgather((int(model._capacity), int(model.resizes), int(model.pos.shape[0]), int(model.grid.capacity),
+sizes = comm.allgather((int(model.capacity), int(model.store.resizes), int(model.pos.shape[0]), int(model.grid.capacity),
                         int(sim.integrator.pos_n.shape[0])))
 if rank == 0:
     ids, pos, vel, rho = by_id(*(np.concatenate([q[k] for q in parts]) for k in range(4)))

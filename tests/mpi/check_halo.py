@@ -126,9 +126,9 @@ def particle_probes(dm, ref):
 
     want = measure(ref)
     got = measure(dm)
-    dm.pos[dm._ghost_rows, dm.dim - 1] += 1.0  # ghosts 1 m up: an owned-only measurement is unchanged
+    dm.pos[dm.halo.ghost_rows, dm.dim - 1] += 1.0  # ghosts 1 m up: an owned-only measurement is unchanged
     moved = measure(dm)
-    dm.pos[dm._ghost_rows, dm.dim - 1] -= 1.0
+    dm.pos[dm.halo.ghost_rows, dm.dim - 1] -= 1.0
     same = all(np.array_equal(a, b, equal_nan=True) for a, b in zip(want, got))
     same_moved = all(np.array_equal(a, b, equal_nan=True) for a, b in zip(want, moved))
     everywhere = comm.allgather(tuple(np.concatenate([np.ravel(a) for a in got])))

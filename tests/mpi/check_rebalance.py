@@ -19,7 +19,8 @@ import shoal
 import shoal.parallel as par
 from shoal.cases.dam_break import dam_break_3d
 from shoal.parallel.decomposition import weighted_counts
-from shoal.parallel.model import BOUNDARY_WEIGHT, DistributedModel
+from shoal.parallel.decomposition import BOUNDARY_WEIGHT
+from shoal.parallel.model import DistributedModel
 from shoal.physics.spec import FLUID
 from shoal.runner import build_model
 from shoal.simulation import Simulation

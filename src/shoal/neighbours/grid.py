@@ -178,6 +178,12 @@ class CellGrid:
         """Bytes held by the grid's arrays."""
         return self.cell_start.nbytes + self.cell.nbytes + self.perm.nbytes + self._unsorted.nbytes
 
+    def resize(self, capacity):
+        """Hold up to `capacity` particles from now on: the per-particle work arrays are resized in place
+        (the cell table keeps its size)."""
+        for a in (self.cell, self.perm, self._unsorted):
+            a.resize(int(capacity), refcheck=False)
+
     def bin(self, pos, n):
         """Compute cells of the first `n` particles and the sort permutation.
 

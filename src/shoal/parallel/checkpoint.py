@@ -259,14 +259,12 @@ def find_resume(out_dir, comm, warn=None):
 
 def _restore_redistributed(sim, ck):
     """Keep this rank's slab of the union `ck` (`union_of`) at cuts computed afresh."""
-    from ..physics.spec import FLUID
     from ..simulation.checkpoint import Checkpoint
-    from .decomposition import slab_cuts
-    from .model import BOUNDARY_WEIGHT
+    from .decomposition import particle_weights, slab_cuts
 
     m = sim.model
     x = ck.particles["pos"][:, 0].astype(np.float64)
-    w = np.where(ck.particles["kind"] == FLUID, 1.0, BOUNDARY_WEIGHT)
+    w = particle_weights(ck.particles["kind"])
     try:
         cuts = slab_cuts(x, w, m.mpi_size, m.min_slab_width)
     except InputError as err:

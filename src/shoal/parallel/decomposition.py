@@ -1,9 +1,9 @@
 """Slab decomposition along x: where to cut the domain between ranks.
 
 The cuts split the particles so that each rank gets about the same weighted
-count: a fluid particle weighs 1 and a boundary particle `boundary_weight`
+count: a fluid particle weighs 1 and a boundary particle `BOUNDARY_WEIGHT`
 (0.25: wall particles only visit fluid neighbours, so they cost a fraction
-of a fluid particle's pair loop).
+of a fluid particle's pair loop; `particle_weights`).
 
 `slab_cuts` computes the cuts from every particle's x (at the start, when
 every rank holds the whole set). `distributed_cuts` computes the same cuts
@@ -12,7 +12,8 @@ slabs are ordered along x, so the concatenation of the ranks' sorted x is
 the sorted x of the whole set, and each cut is found on the rank that holds
 its weighted quantile (two reductions of a few numbers per rank; no particle
 data travels). Both use `_cut_index` and `_enforce_min_width`, so for the
-same particles they give the same cuts.
+same particles they give the same cuts. `Slabs` holds a run's cuts and
+answers which slab a point lies in.
 """
 
 from __future__ import annotations
@@ -20,6 +21,59 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..physics.spec import FLUID
+
+BOUNDARY_WEIGHT = 0.25
+"""Cost of a boundary particle relative to a fluid particle's in the balance of the ranks."""
+
+
+def particle_weights(kinds):
+    """(N,) float64 cost of each particle: 1 for fluid, `BOUNDARY_WEIGHT` for the boundaries."""
+    return np.where(np.asarray(kinds) == FLUID, 1.0, BOUNDARY_WEIGHT)
+
+
+class Slabs:
+    """The slabs along x of the ranks of a run.
+
+    Parameters
+    ----------
+    cuts : (nranks + 1,) float array
+        Rank r owns the particles with cuts[r] <= x < cuts[r + 1]; cuts[0] = -inf, cuts[-1] = +inf.
+    rank : int
+        This process's rank.
+    min_width : float
+        Smallest slab width [m] a re-cut may make (the halo width; twice it on a ring of 2 ranks).
+    x_period : (lo, L), optional
+        A periodic x axis (the domain's low end and length [m]): the slabs close into a ring,
+        rank 0's left neighbour is the last rank.
+    """
+
+    def __init__(self, cuts, rank, min_width, x_period=None):
+        self.cuts = np.asarray(cuts, np.float64)
+        self.rank = int(rank)
+        self.size = len(self.cuts) - 1
+        self.min_width = float(min_width)
+        self.x_period = x_period
+
+    @property
+    def ring(self):
+        """Whether x is periodic (the slabs close into a ring)."""
+        return self.x_period is not None
+
+    def bounds(self, r=None):
+        """(lo, hi) [m] of rank `r`'s slab (default this rank's): the cuts, with the domain's ends
+        for the outer ranks along a periodic x axis (elsewhere they are -inf / +inf)."""
+        r = self.rank if r is None else r
+        lo, hi = float(self.cuts[r]), float(self.cuts[r + 1])
+        if self.x_period is not None:
+            lo = self.x_period[0] if r == 0 else lo
+            hi = self.x_period[0] + self.x_period[1] if r == self.size - 1 else hi
+        return lo, hi
+
+    def holds(self, x):
+        """(len(x),) bool: which of the x [m] lie in this rank's slab (cuts[r] <= x < cuts[r + 1])."""
+        x = np.asarray(x)
+        return (x >= self.cuts[self.rank]) & (x < self.cuts[self.rank + 1])
 
 
 def _too_many(lo, hi, nranks, min_width):

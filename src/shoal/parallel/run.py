@@ -342,7 +342,7 @@ class Ranks:
         n_fluid0 = case.n_fluid
 
         def escaped_check(s):
-            gone = n_fluid0 - model.allreduce(model.n_fluid, "sum")
+            gone = n_fluid0 - model.reduce(model.n_fluid, "sum")
             if gone > case.max_escaped_fraction * n_fluid0:
                 raise CollectiveError(
                     f"{gone} of {n_fluid0} fluid particles ({100.0 * gone / n_fluid0:.1f} %) have left the domain by "
@@ -365,7 +365,7 @@ class Ranks:
         mark = SimpleNamespace(stop_requested=False)
 
         def agree_stop(s):
-            if s.model.allreduce(int(mark.stop_requested), "max"):
+            if s.model.reduce(int(mark.stop_requested), "max"):
                 s.stop_requested = True
 
         sim.after_step.append(agree_stop)  # not a callback: a checkpoint's callbacks stay those of one process
@@ -426,13 +426,13 @@ class Ranks:
     def stop_signal(self, stopper, sim):
         if not sim.stop_requested:
             return 0
-        return sim.model.allreduce(int(getattr(stopper, "signum", None) or 0), "max")
+        return sim.model.reduce(int(getattr(stopper, "signum", None) or 0), "max")
 
     def resume_command(self, out_dir):
         return f"mpiexec -n {self.size} shoal run --resume {out_dir}"
 
     def count(self, model):
-        return model.n_global, model.global_count(), model.allreduce(model.n_escaped, "sum")
+        return model.n_global, model.global_count(), model.reduce(model.n_escaped, "sum")
 
     def plot_data(self, model):
         pos, f = model.gather_particles()  # collective
@@ -449,11 +449,11 @@ class Ranks:
     def end_stats(self, model, wall):
         """(communication seconds min / max over the ranks, the wall time, the weighted counts, each rank's
         owned count, each rank's (rows, bytes, re-sizes)) (collective)."""
-        return dict(comm_min=model.allreduce(model.comm_seconds, "min"),
-                    comm_max=model.allreduce(model.comm_seconds, "max"), wall=wall,
+        return dict(comm_min=model.reduce(model.comm_seconds, "min"),
+                    comm_max=model.reduce(model.comm_seconds, "max"), wall=wall,
                     balance=weighted_counts(self.comm, model.weighted_count()),
                     owned=self.comm.allgather(int(model.n_owned)),
-                    memory=self.comm.allgather((int(model.capacity), int(model.nbytes()), int(model.resizes))))
+                    memory=self.comm.allgather((int(model.capacity), int(model.nbytes()), int(model.store.resizes))))
 
     def log_end(self, log, result, stats, counts):
         self.log_rebalances(log)

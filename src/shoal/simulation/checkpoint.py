@@ -383,6 +383,9 @@ def restore(sim, ck):
     if mm["n_total"] != m.n_total or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
         raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
                               f"this case has {m.n_total} ({m.dim}D, {np.dtype(m.dtype).str})")
+    rows = ck.particles["pos"].shape[0] if "pos" in ck.particles else 0
+    if rows > m.capacity:  # the run had grown its arrays (`shoal.particle_store`)
+        m.store.resize(rows)
     arrays = m.checkpoint_arrays()
     missing = sorted(set(arrays) - set(ck.particles))
     if missing:
