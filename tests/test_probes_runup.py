@@ -133,7 +133,8 @@ def test_make_recorder_dispatches_the_new_gauges(tmp_path):
     from shoal.model import Model
 
     # the recorder asks the model (Model.highest_fluid), which reads its particles' positions and kinds
-    model = SimpleNamespace(dim=2, owned_particles=lambda: (np.array([[0.5, 0.0, 0.3]]), np.array([0]), np.array([0])))
+    model = SimpleNamespace(dim=2, owned_particles=lambda: (np.array([[0.5, 0.0, 0.3]]), np.array([0]), np.array([0])),
+                            reduce=lambda value, op: value, gather=lambda value: [value])  # one process's hooks
     model.highest_fluid = lambda spec, tie: Model.highest_fluid(model, spec, tie)
     rec = make_recorder(RunupGauge(name="r", x0=0.0, x1=1.0, interval=0.1), tmp_path, 0.01, model)
     rec(SimpleNamespace(time=0.25, model=model))

@@ -326,25 +326,29 @@ class Model:
         from .physics.interpolation import n_probe_columns
 
         internal = self._internal_points(points)
-        pts = internal
         b = self.backend
-        out, glo = self._point_buffers("_probe_buf", len(pts), n_probe_columns(self.dim))
+        self.refresh_ghosts()
+        self.ghosts_spent()
+        out, glo = self._point_buffers("_probe_buf", len(internal), n_probe_columns(self.dim))
         inv_cs = 1.0 / self.grid.cell_size
-        b.timed(b.probe, len(pts), (b.asarray(internal), self.pos, self.vel, self.rho, self.kind,
-                                    self.grid.cell_start, self.grid.gdims_arr, glo, inv_cs, self.P, out))
-        o = self.backend.to_host(out, 0, len(pts)).astype(np.float64)
-        s = o[:, 0]
-        vel = np.zeros((len(pts), 3))
+        b.timed(b.probe, len(internal), (b.asarray(internal), self.pos, self.vel, self.rho, self.kind,
+                                         self.grid.cell_start, self.grid.gdims_arr, glo, inv_cs, self.P, out))
+        o = self.backend.to_host(out, 0, len(internal)).astype(np.float64)
+        sums = np.zeros((len(internal), 6))  # kernel sum, pressure, density, velocity (x, y, z)
+        sums[:, :3] = o[:, :3]
         if self.dim == 3:
-            vel[:] = o[:, 3:6]
+            sums[:, 3:6] = o[:, 3:6]
         else:
-            vel[:, 0], vel[:, 2] = o[:, 3], o[:, 4]
+            sums[:, 3], sums[:, 5] = o[:, 3], o[:, 4]
+        sums[~self.answers(internal)] = 0.0
+        sums = self.reduce_array(sums, "sum")
+        s, vel = sums[:, 0], sums[:, 3:6]
         if shepard:
             with np.errstate(invalid="ignore", divide="ignore"):
                 inv = np.where(s > 0, 1.0 / s, np.nan)
-            return {"kernel_sum": s, "pressure": o[:, 1] * inv, "density": o[:, 2] * inv,
+            return {"kernel_sum": s, "pressure": sums[:, 1] * inv, "density": sums[:, 2] * inv,
                     "velocity": vel * inv[:, None]}
-        return {"kernel_sum": s, "pressure": o[:, 1], "density": o[:, 2], "velocity": vel}
+        return {"kernel_sum": s, "pressure": sums[:, 1], "density": sums[:, 2], "velocity": vel}
 
     def sensor_moments(self, points):
         """The fluid's weighted moments around fixed points (`shoal.physics.interpolation.make_sensor_moments`),
@@ -363,11 +367,15 @@ class Model:
 
         internal = self._internal_points(points)
         b = self.backend
+        self.refresh_ghosts()
+        self.ghosts_spent()
         key = len(internal)
         out, glo = self._point_buffers("_moment_buf", key, n_moment_columns(self.dim))
         b.timed(b.sensor_moments, key, (b.asarray(internal), self.pos, self.rho, self.kind, self.grid.cell_start,
                                         self.grid.gdims_arr, glo, 1.0 / self.grid.cell_size, self.P, out))
-        return b.to_host(out, 0, key).astype(np.float64)
+        moments = b.to_host(out, 0, key).astype(np.float64)
+        moments[~self.answers(internal)] = 0.0
+        return self.reduce_array(moments, "sum")
 
     def _point_buffers(self, attr, n, columns):
         """(out, grid corner) device buffers of a point kernel for `n` points, kept in `attr` while n holds."""
@@ -540,6 +548,26 @@ class Model:
         if message is not None:
             raise InstabilityError(message)
 
+    def reduce_array(self, values, op="sum"):
+        """An array combined element by element over the processes (`op`: "min", "max", "sum"); one
+        process: itself."""
+        return values
+
+    def gather(self, value):
+        """[`value` of each process], in rank order, on every process; one process: [value]."""
+        return [value]
+
+    def answers(self, points):
+        """(M,) bool: which of the (M, 3) points (the gather's coordinates) this process measures, each
+        point by exactly one process of the run; one process: all of them (a distributed model: those
+        in its slab, whose support its halo covers)."""
+        return np.ones(len(points), bool)
+
+    def owned_rows(self):
+        """Rows of the active particles this process reports (all of them; a distributed model: those
+        it owns, never its ghosts): an index for the arrays of ``n`` rows."""
+        return slice(None)
+
     def compute_rates(self):
         """Evaluate d rho/dt, dv/dt (and XSPH) of the active particles."""
         self.refresh_ghosts(always=False)
@@ -615,7 +643,7 @@ class Model:
         i, code = self.backend.find_bad(self.n, self.pos, self.vel, self.rho, self.kind, *self.rho_range)
         if i < 0:
             return None
-        where = Model.world_positions(self)[i]  # row i of all the rows scanned (under MPI: ghosts included)
+        where = self._world(self.host(self.pos, i, i + 1))[0]  # row i of the rows scanned (ghosts included)
         what = "non-finite position, velocity or density" if code == 1 else (
             f"density {float(self.host(self.rho, i, i + 1)[0]):.6g} kg/m^3 outside the sane band "
             f"[{self.rho_range[0]:.4g}, {self.rho_range[1]:.4g}]")
@@ -628,10 +656,15 @@ class Model:
 
     # ---------------------------------------------------------------- output
     def world_positions(self, active_only=True):
-        """(N, 3) float64 positions in world coordinates."""
-        n = self.n if active_only else self.n_total
-        p = self.host(self.pos, 0, n)
-        out = np.zeros((n, 3))
+        """(N, 3) float64 positions in world coordinates of the particles this process reports
+        (`owned_rows`; with `active_only` false, all ``n_total`` rows)."""
+        if active_only:
+            return self._world(self.host(self.pos)[self.owned_rows()])
+        return self._world(self.host(self.pos, 0, self.n_total))
+
+    def _world(self, p):
+        """(N, 3) float64 world coordinates of the stored positions `p` ((x, z) in 2D)."""
+        out = np.zeros((len(p), 3))
         if self.dim == 3:
             out[:] = p
         else:
@@ -647,9 +680,9 @@ class Model:
         return out
 
     def world_velocities(self):
-        """(N, 3) float64 velocities of the active particles."""
-        v = self.host(self.vel)
-        out = np.zeros((self.n, 3))
+        """(N, 3) float64 velocities of the particles `world_positions` gives."""
+        v = self.host(self.vel)[self.owned_rows()]
+        out = np.zeros((len(v), 3))
         if self.dim == 3:
             out[:] = v
         else:
@@ -673,18 +706,20 @@ class Model:
         return out
 
     def pressure(self):
-        """Tait pressure [Pa] of the active particles (float64)."""
-        return pressure_of(self.host(self.rho), self.rho0, self.B)
+        """Tait pressure [Pa] (float64) of the particles `world_positions` gives."""
+        return pressure_of(self.host(self.rho)[self.owned_rows()], self.rho0, self.B)
 
     def fields(self):
-        """Point data of the active particles for snapshots."""
+        """Point data for snapshots of the particles `world_positions` gives."""
+        own = self.owned_rows()
+        free = self.free_surface()[own]
         return {
             "velocity": self.world_velocities(),
-            "density": self.host(self.rho).astype(np.float64),
+            "density": self.host(self.rho)[own].astype(np.float64),
             "pressure": self.pressure(),
-            "id": self.host(self.idp).copy(),
-            "kind": self.host(self.kind).astype(np.int32),
-            "free_surface": self.free_surface().astype(np.int32),
+            "id": self.host(self.idp)[own].copy(),
+            "kind": self.host(self.kind)[own].astype(np.int32),
+            "free_surface": free.astype(np.int32),
         }
 
     # ------------------------------------------------------ particle probes
@@ -701,7 +736,8 @@ class Model:
         ids : ndarray, shape (N,)
             Particle ids.
         """
-        return self.world_positions(), self.host(self.kind), self.host(self.idp)
+        own = self.owned_rows()
+        return self.world_positions(), self.host(self.kind)[own], self.host(self.idp)[own]
 
     def particle_positions(self, ids):
         """World positions [m] of the particles with `ids` (a `Tracker`).
@@ -719,16 +755,21 @@ class Model:
         from .probes import positions_of
 
         pos, _, idp = self.owned_particles()
-        return positions_of(idp, pos, ids)
+        parts = np.stack(self.gather(positions_of(idp, pos, ids)))  # (processes, K, 3): NaN where not held
+        found = ~np.isnan(parts[:, :, 0])
+        return parts[np.argmax(found, axis=0), np.arange(parts.shape[1])]
 
     def nearest_fluid(self, points):
-        """Ids of the fluid particles nearest to `points` [m] (shape (K, 3)); among
-        particles at exactly the same distance the smallest id (-1: no fluid)."""
+        """Ids of the fluid particles nearest to `points` [m] (shape (K, 3)) over every process;
+        among particles at exactly the same distance the smallest id (-1: no fluid)."""
         from .probes import nearest_particles
 
         pos, kinds, idp = self.owned_particles()
         fluid = kinds == FLUID
-        return nearest_particles(pos[fluid], idp[fluid], points)[1]
+        d2, ids = (np.stack(a) for a in zip(*self.gather(nearest_particles(pos[fluid], idp[fluid], points))))
+        best = d2.min(axis=0)
+        out = np.where(d2 == best, ids, np.iinfo(np.int64).max).min(axis=0)
+        return np.where(np.isfinite(best), out, -1)
 
     def wall_forces(self):
         """The force [N; 2D: N/m] the fluid exerts on each dynamic boundary particle now
@@ -752,11 +793,7 @@ class Model:
         f = self.host(self._force, 0, n).astype(np.float64)
         out = np.zeros((n, 3))
         out[:, [0, 1, 2] if self.dim == 3 else [0, 2]] = f
-        return out[self._owned_rows()], self.host(self.idp)[self._owned_rows()]
-
-    def _owned_rows(self):
-        """Rows of the active particles this process measures (all of them; under MPI the owned)."""
-        return slice(None)
+        return out[self.owned_rows()], self.host(self.idp)[self.owned_rows()]
 
     def body_force(self, body):
         """Total force [N; 2D: N/m] of the fluid on the solid numbered `body` (the case's `solids`
@@ -777,7 +814,7 @@ class Model:
 
     def owned_density(self):
         """(N,) float64 densities of the particles `owned_particles` gives."""
-        return self.host(self.rho)[self._owned_rows()].astype(np.float64)
+        return self.host(self.rho)[self.owned_rows()].astype(np.float64)
 
     def flow_sample(self, spec, prev):
         """One sample of a `FlowGauge` `spec` (`shoal.probes.flow.flow_measure` over the fluid).
@@ -792,35 +829,48 @@ class Model:
         period = 0.0
         if axis in self.periodic:
             period = self.params.per_len_x if axis == "x" else self.params.per_len_y
-        return flow_measure(pos, self.world_velocities(), self.owned_density(), kinds, ids, spec, self.dim,
-                            self.dp, self.mass, prev, self.n_ids, period)
+        new, crossed, q = flow_measure(pos, self.world_velocities(), self.owned_density(), kinds, ids, spec,
+                                       self.dim, self.dp, self.mass, prev, self.n_ids, period)
+        # each particle's coordinate comes from the one process that holds it (NaN on the others)
+        new = self.reduce_array(np.where(np.isnan(new), -np.inf, new), "max")
+        if crossed is not None:
+            crossed = self.reduce(crossed, "sum")
+        return np.where(np.isneginf(new), np.nan, new), crossed, self.reduce(q, "sum")
 
     def shoreline(self, spec):
         """(zmax, x, y) [m] of a `RunupGauge` `spec` with `min_depth`: the wet shoreline's highest point
         (`shoal.probes.shoreline`; NaNs when no column is wet)."""
-        from .probes import shoreline
+        from .probes import shoreline, shoreline_columns
 
-        ylim = self._shoreline_ylim(spec)
-        cols = self._shoreline_columns(spec, ylim)
-        return shoreline(*cols, self.dim, spec, self.dp, ylim)
-
-    def _shoreline_ylim(self, spec):
         if self.dim == 2:
-            return (0.0, 0.0)
-        if spec.band is not None:
-            return (spec.y - 0.5 * spec.band, spec.y + 0.5 * spec.band)
-        return (float(self.grid.lo[1]), float(self.grid.hi[1]))
-
-    def _shoreline_columns(self, spec, ylim):
-        from .probes import shoreline_columns
-
+            ylim = (0.0, 0.0)
+        elif spec.band is not None:
+            ylim = (spec.y - 0.5 * spec.band, spec.y + 0.5 * spec.band)
+        else:
+            ylim = (float(self.grid.lo[1]), float(self.grid.hi[1]))
         pos, kinds, _ = self.owned_particles()
-        return shoreline_columns(pos, kinds, self.dim, spec, self.dp, ylim)
+        counts, zmin, xland = shoreline_columns(pos, kinds, self.dim, spec, self.dp, ylim)
+        # the columns over every process: counts added, lowest z and most landward x
+        cols = tuple(self.reduce_array(a, op) for a, op in ((counts, "sum"), (zmin, "min"), (xland, "max")))
+        return shoreline(*cols, self.dim, spec, self.dp, ylim)
 
     def highest_fluid(self, spec, tie=0.0):
         """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` `spec` over the fluid
-        particles (`shoal.probes.highest_fluid`; NaNs when its region holds none)."""
-        from .probes import highest_fluid
+        particles of every process (`shoal.probes.highest_fluid`; NaNs when its region holds none):
+        zmax is the highest; (x, y) that of the run-up's most landward particle within `tie` below it
+        (the max-z gauge: the first process's holding the highest particle)."""
+        from .probes import RunupGauge, highest_fluid
 
         pos, kinds, _ = self.owned_particles()
-        return highest_fluid(pos, kinds, self.dim, spec, tie)
+        z = highest_fluid(pos, kinds, self.dim, spec, tie)[0]
+        zmax = self.reduce(-np.inf if np.isnan(z) else z, "max")
+        if zmax == -np.inf:
+            return (float("nan"),) * 3
+        xy = np.array(self.gather(highest_fluid(pos, kinds, self.dim, spec, tie, zmax=zmax)[1:]), float)
+        here = np.flatnonzero(~np.isnan(xy[:, 0]))  # processes with a particle at (within tie of) zmax
+        if isinstance(spec, RunupGauge):
+            sign = 1.0 if spec.landward == "+x" else -1.0
+            k = here[np.argmax(sign * xy[here, 0])]
+        else:
+            k = here[0]
+        return zmax, float(xy[k, 0]), float(xy[k, 1])

@@ -372,37 +372,22 @@ class DistributedModel(Model):
             if m is not None:
                 raise CollectiveError(f"{m} (MPI rank {k})")
 
-    def sample(self, points, shepard=True):
-        """SPH interpolation at fixed points, the same on every rank (collective)."""
-        self.halo.refresh()
-        self.halo.fresh = False
-        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        raw = super().sample(pts, shepard=False)
-        mine = self.slabs.holds(pts[:, 0])
-        buf = np.zeros((len(pts), 6))
-        buf[:, 0] = raw["kernel_sum"]
-        buf[:, 1] = raw["pressure"]
-        buf[:, 2] = raw["density"]
-        buf[:, 3:6] = raw["velocity"]
-        buf[~mine] = 0.0
-        out = self.link.reduce_array(buf, "sum")
-        s, vel = out[:, 0], out[:, 3:6]
-        if shepard:
-            with np.errstate(invalid="ignore", divide="ignore"):
-                inv = np.where(s > 0, 1.0 / s, np.nan)
-            return {"kernel_sum": s, "pressure": out[:, 1] * inv, "density": out[:, 2] * inv,
-                    "velocity": vel * inv[:, None]}
-        return {"kernel_sum": s, "pressure": out[:, 1], "density": out[:, 2], "velocity": vel}
+    def reduce_array(self, values, op="sum"):
+        """`values` combined element by element over every rank (`TimedComm.reduce_array`; collective)."""
+        return self.link.reduce_array(values, op)
 
-    def sensor_moments(self, points):
-        """The fluid's moments around fixed points (`Model.sensor_moments`), the same on every rank
-        (collective): each point's sums come from the rank whose slab holds it, with a fresh halo."""
-        self.halo.refresh()
-        self.halo.fresh = False
-        pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        buf = super().sensor_moments(pts)
-        buf[~self.slabs.holds(pts[:, 0])] = 0.0
-        return self.link.reduce_array(buf, "sum")
+    def gather(self, value):
+        """[`value` of each rank], in rank order, on every rank (collective)."""
+        return self.link.allgather(value)
+
+    def answers(self, points):
+        """The points in this rank's slab: its halo covers their support, and no other rank's slab
+        holds them."""
+        return self.slabs.holds(np.asarray(points)[:, 0])
+
+    def owned_rows(self):
+        """The owned rows (`owned`), never the ghosts."""
+        return self.owned
 
     # ----------------------------------------------------------- checkpoint
     def checkpoint_arrays(self):
@@ -456,108 +441,6 @@ class DistributedModel(Model):
         self.to_host()
 
     # ---------------------------------------------------------------- output
-    def world_positions(self, active_only=True):
-        """(n_owned, 3) positions of this rank's particles."""
-        return super().world_positions()[self.owned]
-
-    def world_velocities(self):
-        return super().world_velocities()[self.owned]
-
-    def pressure(self):
-        return super().pressure()[self.owned]
-
-    def fields(self):
-        """Point data of this rank's particles (free-surface flags with a fresh halo)."""
-        own = self.owned
-        fs = self.free_surface()[own]
-        return {
-            "velocity": self.world_velocities(),
-            "density": self.host(self.rho)[own].astype(np.float64),
-            "pressure": self.pressure(),
-            "id": self.host(self.idp)[own].copy(),
-            "kind": self.host(self.kind)[own].astype(np.int32),
-            "free_surface": fs.astype(np.int32),
-        }
-
-    def owned_particles(self):
-        """(positions, kinds, ids) of this rank's owned particles, never the ghosts
-        (the particle probes measure these, then reduce over the ranks)."""
-        own = self.owned
-        return self.world_positions(), self.host(self.kind)[own], self.host(self.idp)[own]
-
-    def particle_positions(self, ids):
-        """World positions [m] of the particles with `ids`, the same on every rank
-        (collective): each is read on the rank that owns it (`Model.particle_positions`
-        over the owned particles) and the ranks' rows are gathered; NaN rows for
-        particles no rank owns (escaped)."""
-        parts = np.stack(self.link.allgather(super().particle_positions(ids)))  # (ranks, K, 3)
-        found = ~np.isnan(parts[:, :, 0])
-        return parts[np.argmax(found, axis=0), np.arange(parts.shape[1])]
-
-    def nearest_fluid(self, points):
-        """Ids of the fluid particles nearest to `points` over every rank, the same on
-        every rank (collective); ties as in `shoal.probes.nearest_particles` (the
-        smallest id), so the choice equals the single-process one."""
-        from ..probes import nearest_particles
-
-        pos, kinds, idp = self.owned_particles()
-        fluid = kinds == FLUID
-        d2, ids = (np.stack(a) for a in zip(*self.link.allgather(nearest_particles(pos[fluid], idp[fluid], points))))
-        best = d2.min(axis=0)
-        out = np.where(d2 == best, ids, np.iinfo(np.int64).max).min(axis=0)
-        return np.where(np.isfinite(best), out, -1)
-
-    def _owned_rows(self):
-        return self.owned
-
-    @property
-    def n_ids(self):
-        """Particle ids of the whole case (0 .. n_global - 1)."""
-        return self.n_global
-
-    def flow_sample(self, spec, prev):
-        """A `FlowGauge` sample over every rank's fluid, the same on every rank (collective): each
-        rank measures its owned particles against the whole-case `prev`; the coordinates by id are
-        merged (a particle is owned by one rank), the crossings and slab sums added."""
-        new, crossed, q = super().flow_sample(spec, prev)
-        out = self.link.reduce_array(np.where(np.isnan(new), -np.inf, new), "max")
-        q = self.reduce(q, "sum")
-        if crossed is not None:
-            crossed = self.reduce(crossed, "sum")
-        return np.where(np.isneginf(out), np.nan, out), crossed, q
-
-    def _shoreline_ylim(self, spec):
-        lo, hi = super()._shoreline_ylim(spec)
-        return (self.reduce(lo, "min"), self.reduce(hi, "max"))
-
-    def _shoreline_columns(self, spec, ylim):
-        """The shoreline columns (`shoal.probes.shoreline_columns`) of every rank's owned fluid, the same
-        on every rank (collective): counts added, lowest z and most landward x over the ranks."""
-        counts, zmin, xland = super()._shoreline_columns(spec, ylim)
-        return tuple(self.link.reduce_array(a, op) for a, op in ((counts, "sum"), (zmin, "min"), (xland, "max")))
-
-    def highest_fluid(self, spec, tie=0.0):
-        """(zmax, x, y) [m] of a `MaxZGauge` or `RunupGauge` over every rank's fluid,
-        the same on every rank (collective): zmax is the MPI max of the ranks' highest
-        owned particles (NaN when no rank's owned fluid is in the region); (x, y) is
-        that of the run-up's most landward owned particle within `tie` below it over
-        the ranks (the max-z gauge: the rank holding the highest particle's)."""
-        from ..probes import RunupGauge, highest_fluid
-
-        pos, kinds, _ = self.owned_particles()
-        z = highest_fluid(pos, kinds, self.dim, spec, tie)[0]
-        zmax = self.reduce(-np.inf if np.isnan(z) else z, "max")
-        if zmax == -np.inf:
-            return (float("nan"),) * 3
-        xy = np.array(self.link.allgather(highest_fluid(pos, kinds, self.dim, spec, tie, zmax=zmax)[1:]), float)
-        here = np.flatnonzero(~np.isnan(xy[:, 0]))  # ranks with a particle at (within tie of) zmax
-        if isinstance(spec, RunupGauge):
-            sign = 1.0 if spec.landward == "+x" else -1.0
-            k = here[np.argmax(sign * xy[here, 0])]
-        else:
-            k = here[0]
-        return zmax, float(xy[k, 0]), float(xy[k, 1])
-
     def gather_particles(self, root=0):
         """(positions, fields) of every rank's particles on `root` (None elsewhere), in id order."""
         parts = self.link.gather((self.world_positions(), self.fields()), root=root)

@@ -507,7 +507,7 @@ def highest_fluid(positions, kinds, dim, spec, tie=0.0, zmax=None):
     zmax : float, optional
         [m]: the elevation of the highest particle, when it was found among
         more particles than these (under MPI: the maximum over the ranks,
-        see `shoal.parallel.model.DistributedModel.highest_fluid`); (x, y)
+        see `shoal.model.Model.highest_fluid`); (x, y)
         are then those of a particle here at `zmax` (max-z) or within `tie`
         below it (run-up), NaN when none is. Default: the highest here.
 
