@@ -377,3 +377,33 @@ def test_a_checkpoint_of_an_earlier_version_with_vmax_restores(tmp_path):
     m, a = sim.model, again.model
     assert np.array_equal(m.host(m.mu_max), a.host(a.mu_max)) and np.any(m.host(m.mu_max) > 0)
     assert again.step_count == 3
+
+
+def test_simulation_run_ends_a_run_as_the_runner_does(tmp_path):
+    """Issue 29: a Simulation driven from Python ends its run the same way `run_case` does: at the end time
+    its snapshot writer writes the last state (the end time 0.013 s is off its 0.005 s schedule) and its
+    checkpoint writer, added last, the last checkpoint; a run stopped by ``max_steps`` ends there when
+    its caller calls `finalize`, once per step."""
+    from shoal.simulation import Simulation, TimeInterval
+    from shoal.simulation.checkpoint import CheckpointWriter
+    from shoal.simulation.writers import SnapshotWriter
+
+    case = shoal.cases.dam_break_2d(dp=0.146 / 6, a=0.146, layers=2, end_time=0.013)
+    for label, max_steps in (("whole", None), ("part", 7)):
+        out = tmp_path / label
+        out.mkdir()
+        sim = Simulation(case)
+        snaps = SnapshotWriter(out, "s")
+        ckw = CheckpointWriter(out, "# a test", keep=5)
+        sim.add_callback(snaps, TimeInterval(0.005), name="snapshots")
+        sim.add_callback(ckw, TimeInterval(1.0), name="checkpoint")
+        sim.run(max_steps=max_steps)
+        if max_steps is None:
+            assert sim.time == pytest.approx(0.013, abs=1e-12)
+            assert snaps.last_time == sim.time and snaps.count == 4  # t = 0, 0.005, 0.01 and the end
+        else:
+            assert sim.step_count == 7 and snaps.count == 1 and ckw.last_step == 0  # t = 0 only
+            sim.finalize()
+            sim.finalize()
+            assert snaps.count == 2 and snaps.last_time == sim.time
+        assert ckw.written == 2 and read_checkpoint(ckw.last_path).step == sim.step_count  # t = 0 and the end

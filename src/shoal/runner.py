@@ -173,7 +173,7 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     from .casefile import dumps_case, write_case
     from .probes import make_recorder
     from .simulation import IterationInterval
-    from .simulation.checkpoint import set_aside_csvs
+    from .simulation.checkpoint import CheckpointWriter, set_aside_csvs
     from .simulation.signals import StopOnSignals
 
     ck = point.ck
@@ -215,8 +215,8 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     if escaped_check is not None:
         sim.add_callback(escaped_check, IterationInterval(1), name="escaped")
     stop_target = procs.stop_target(sim)
-    ckw = procs.checkpoint_writer(out_dir, dumps_case(case, file_name="case.toml"), case.checkpoint.keep, log,
-                                  escaped)
+    ckw = CheckpointWriter(out_dir, dumps_case(case, file_name="case.toml"), case.checkpoint.keep, log,
+                           files=procs.checkpoint_files(escaped))
     ck_cb = sim.add_callback(ckw, procs.checkpoint_schedule(case.checkpoint), name="checkpoint")  # last: sees the rest
     ck_cb.fresh_on_resume = True
     state["writer"] = ckw
@@ -265,9 +265,8 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
             close_run_log(log)
         raise RunInterrupted(msg, signum, path)
     wall = _time.perf_counter() - t0
-    if writer.last_time is None or writer.last_time < sim.time - 1e-12:
-        writer(sim)
-    state["checkpoint"] = final = ckw.write(sim)  # before closing the recorders: it records their files' lengths
+    sim.finalize()  # the last snapshot and checkpoint (done already if the end time was reached)
+    state["checkpoint"] = final = ckw.last_path  # written before the recorders close: it records their files' lengths
     for rec in closers:
         rec.close()
     if plot:

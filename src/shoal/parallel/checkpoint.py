@@ -79,60 +79,41 @@ def _write_json(path, obj):
     fsync_dir(path.parent)
 
 
-class MPICheckpointWriter:
-    """A Simulation callback (collective) writing a checkpoint of every rank and its manifest,
-    keeping the newest `keep`.
+class RankFiles:
+    """Where a checkpoint of a run on several MPI ranks goes (`shoal.simulation.checkpoint.CheckpointWriter`
+    writes it): a file per rank, then rank 0's manifest once every file is on disk (collective: a write
+    that fails on any rank ends every rank with one error).
 
     Parameters
     ----------
-    out_dir : path
-        Run directory (shared by the ranks).
-    case_toml : str
-        The resolved case file text.
-    keep : int
-        Checkpoints kept.
     comm : mpi4py communicator
-    log : logging.Logger, optional
-        Rank 0's run log.
     escaped : EscapedRecorder, optional
         This rank's escaped-particle recorder (its CSV length is saved).
     """
 
-    def __init__(self, out_dir, case_toml, keep, comm, log=None, escaped=None):
-        self.out_dir = Path(out_dir)
-        self.case_toml = case_toml
-        self.keep = max(1, int(keep))
+    def __init__(self, comm, escaped=None):
         self.comm = comm
-        self.log = log
         self.escaped = escaped
-        self.last_step = None
-        self.last_path = None
-        self.written = 0
+        self.leader = comm.Get_rank() == 0
 
-    def __call__(self, sim):
-        self.write(sim)
-
-    def write(self, sim):
-        """Write a checkpoint of `sim` now (once per step, collective); returns the manifest's path."""
-
-        if self.last_step == sim.step_count and self.last_path is not None:
-            return self.last_path
-        t0 = _time.perf_counter()
+    def write(self, sim, out_dir, case_toml):
+        """Write this rank's file and (rank 0) the manifest; returns (the manifest's path, the number of
+        rank files, their bytes (rank 0; 0 elsewhere))."""
         rank, size = self.comm.Get_rank(), self.comm.Get_size()
         nbytes = 0
         if self.escaped is not None:
             self.escaped.file.flush()
             nbytes = os.fstat(self.escaped.file.fileno()).st_size
-        path = rank_path(self.out_dir, sim.step_count, rank)
+        path = rank_path(out_dir, sim.step_count, rank)
         msg, digest = None, None
         try:
-            write_checkpoint(path, capture_rank(sim, self.case_toml, nbytes))
+            write_checkpoint(path, capture_rank(sim, case_toml, nbytes))
             digest = stored_digest(path)
         except OSError as err:
             msg = write_error(err, path)
         collective_check(self.comm, msg)
         digests = self.comm.gather((path.name, digest, path.stat().st_size), root=0)
-        man = manifest_path(self.out_dir, sim.step_count)
+        man = manifest_path(out_dir, sim.step_count)
         msg = None
         if rank == 0:
             obj = {"format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "ranks": size, "step": int(sim.step_count),
@@ -144,22 +125,18 @@ class MPICheckpointWriter:
             except OSError as err:
                 msg = write_error(err, man)
         collective_check(self.comm, msg)
-        self.last_step, self.last_path = sim.step_count, man
-        self.written += 1
-        if rank == 0:
-            self._prune()
-            if self.log is not None:
-                self.log.info("checkpoint %s: step %d, t = %.9g s, %d rank files, %.1f MiB in %.2f s", man.name,
-                              sim.step_count, sim.time, size, sum(d[2] for d in digests) / 2**20,
-                              _time.perf_counter() - t0)
-        return man
+        return man, size, sum(d[2] for d in digests) if rank == 0 else 0
 
-    def _prune(self):
+    def still_there(self, path):
+        """Always: whether to write again must not depend on what one rank sees on disk."""
+        return True
+
+    def prune(self, out_dir, keep):
         """Remove the manifests older than the newest `keep` and their rank files, then any rank
         file older than the oldest kept manifest (left by a crash mid-write)."""
-        mans = list_manifests(self.out_dir)
-        kept = mans[: self.keep]
-        for old in mans[self.keep:]:
+        mans = list_manifests(out_dir)
+        kept = mans[:keep]
+        for old in mans[keep:]:
             files = []
             try:
                 files = json.loads(old.read_text()).get("files", [])
@@ -171,12 +148,12 @@ class MPICheckpointWriter:
                 pass
             for name in files:
                 try:
-                    (self.out_dir / name).unlink()
+                    (out_dir / name).unlink()
                 except OSError:
                     pass
         if kept:
             oldest = int(MPI_MANIFEST.match(kept[-1].name).group(1))
-            for p in self.out_dir.iterdir():
+            for p in out_dir.iterdir():
                 m = MPI_RANK_FILE.match(p.name)
                 if m and int(m.group(1)) < oldest:
                     try:

@@ -158,6 +158,11 @@ class _Snapshots:
         self.pvd.truncate(-math.inf if self.last_time is None else self.last_time)
         remove_snapshots(self.directory, self.name, self.count)
 
+    def finalize(self, sim):
+        """At the end of a run (collective): the last state, unless the schedule has just written it."""
+        if self.last_time is None or self.last_time < sim.time - 1e-12:
+            self(sim)
+
     def __call__(self, sim):
         self.write(sim.model, sim.time)
 
@@ -371,10 +376,11 @@ class Ranks:
         sim.after_step.append(agree_stop)  # not a callback: a checkpoint's callbacks stay those of one process
         return mark
 
-    def checkpoint_writer(self, out_dir, case_toml, keep, log, escaped):
-        from .checkpoint import MPICheckpointWriter
+    def checkpoint_files(self, escaped):
+        """A file per rank and a manifest (`RankFiles`), with this rank's escaped-particle file length."""
+        from .checkpoint import RankFiles
 
-        return MPICheckpointWriter(out_dir, case_toml, keep, self.comm, log, escaped)
+        return RankFiles(self.comm, escaped)
 
     def checkpoint_schedule(self, cfg):
         """The single-process checkpoint schedule, its wall-clock part decided by rank 0."""

@@ -554,8 +554,41 @@ def restore_recorders(sim, ck, out_dir, backups, warn=None):
 
 
 # ------------------------------------------------------------------ callback
+class OneFile:
+    """Where a checkpoint of one process goes: ``ckpt_NNNNNN.h5``, the whole state in one file.
+
+    A run on several MPI ranks writes a file per rank and a manifest instead
+    (`shoal.parallel.checkpoint.RankFiles`); `CheckpointWriter` writes either.
+    """
+
+    leader = True
+    """Whether this process prunes old checkpoints and logs the writes."""
+
+    def write(self, sim, out_dir, case_toml):
+        """Write the checkpoint of `sim` now; returns (the path it is known by, the number of files,
+        their bytes)."""
+        path = checkpoint_path(out_dir, sim.step_count)
+        write_checkpoint(path, capture(sim, case_toml))
+        return path, 1, path.stat().st_size
+
+    def still_there(self, path):
+        """Whether the checkpoint written last at `path` is still on disk (written again if not)."""
+        return path.exists()
+
+    def prune(self, out_dir, keep):
+        """Remove all but the newest `keep` checkpoints."""
+        for old in list_checkpoints(out_dir)[keep:]:
+            try:
+                old.unlink()
+            except OSError:
+                pass
+
+
 class CheckpointWriter:
-    """A Simulation callback writing ``ckpt_NNNNNN.h5`` and keeping the newest `keep`.
+    """A Simulation callback writing a checkpoint and keeping the newest `keep`, for one process or
+    many: `files` says where a checkpoint goes (`OneFile`: ``ckpt_NNNNNN.h5``; a run on several MPI
+    ranks: `shoal.parallel.checkpoint.RankFiles`, a file per rank and a manifest, written
+    collectively).
 
     Add it last, so every other callback's state at the step is included.
 
@@ -569,13 +602,16 @@ class CheckpointWriter:
         Checkpoints kept.
     log : logging.Logger, optional
         Where each write is logged.
+    files : OneFile or RankFiles, optional
+        Default `OneFile`.
     """
 
-    def __init__(self, out_dir, case_toml, keep=2, log=None):
+    def __init__(self, out_dir, case_toml, keep=2, log=None, files=None):
         self.out_dir = Path(out_dir)
         self.case_toml = case_toml
         self.keep = max(1, int(keep))
         self.log = log
+        self.files = files if files is not None else OneFile()
         self.last_step = None
         self.last_path = None
         self.written = 0
@@ -583,23 +619,25 @@ class CheckpointWriter:
     def __call__(self, sim):
         self.write(sim)
 
+    def finalize(self, sim):
+        """At the end of a run: the last checkpoint (`write`)."""
+        self.write(sim)
+
     def write(self, sim):
-        """Write a checkpoint of `sim` now (once per step); returns its path."""
-        if self.last_step == sim.step_count and self.last_path is not None and self.last_path.exists():
+        """Write a checkpoint of `sim` now (once per step); returns its path (a run on several ranks:
+        its manifest's)."""
+        if self.last_step == sim.step_count and self.last_path is not None and self.files.still_there(self.last_path):
             return self.last_path
         t0 = _time.perf_counter()
-        path = checkpoint_path(self.out_dir, sim.step_count)
-        write_checkpoint(path, capture(sim, self.case_toml))
+        path, nfiles, nbytes = self.files.write(sim, self.out_dir, self.case_toml)
         self.last_step, self.last_path = sim.step_count, path
         self.written += 1
-        for old in list_checkpoints(self.out_dir)[self.keep:]:
-            try:
-                old.unlink()
-            except OSError:
-                pass
-        if self.log is not None:
-            self.log.info("checkpoint %s: step %d, t = %.9g s, %.1f MiB in %.2f s", path.name, sim.step_count,
-                          sim.time, path.stat().st_size / 2**20, _time.perf_counter() - t0)
+        if self.files.leader:
+            self.files.prune(self.out_dir, self.keep)
+            if self.log is not None:
+                what = f"{nfiles} rank files, " if nfiles > 1 else ""
+                self.log.info("checkpoint %s: step %d, t = %.9g s, %s%.1f MiB in %.2f s", path.name, sim.step_count,
+                              sim.time, what, nbytes / 2**20, _time.perf_counter() - t0)
         return path
 
 

@@ -107,10 +107,11 @@ class OneProcess:
         """What a stop signal marks: the Simulation itself."""
         return sim
 
-    def checkpoint_writer(self, out_dir, case_toml, keep, log, escaped):
-        from .checkpoint import CheckpointWriter
+    def checkpoint_files(self, escaped):
+        """One file per checkpoint (`OneFile`)."""
+        from .checkpoint import OneFile
 
-        return CheckpointWriter(out_dir, case_toml, keep, log)
+        return OneFile()
 
     def checkpoint_schedule(self, cfg):
         from .schedules import checkpoint_schedule

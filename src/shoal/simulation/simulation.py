@@ -5,7 +5,9 @@ Each step is the integrator's, then the `stages` in their stated order
 
 Everything periodic (writers, probes, checks, progress) is a callback with
 a schedule. Output times of `TimeInterval` schedules are hit exactly: the
-step before one is shortened.
+step before one is shortened. A callback whose function has a
+``finalize(sim)`` method also runs that when the run ends (`finalize`): the
+last snapshot, the last checkpoint.
 """
 
 from __future__ import annotations
@@ -78,6 +80,7 @@ class Simulation:
         # (the MPI ranks' agreement on a stop signal)
         self.after_step = []
         self.started = False  # the initial sort, check and t = 0 callbacks are done (or restored from a checkpoint)
+        self.finalized_step = None  # the step `finalize` last ran at
         self.options = model.options
         self.stages = default_stages(model.options, check_every)
 
@@ -87,10 +90,26 @@ class Simulation:
         self.callbacks.append(cb)
         return cb
 
-    def _run_callbacks(self, final=False):
+    def _run_callbacks(self):
         for cb in self.callbacks:
-            if cb.schedule.due(self) or (final and getattr(cb, "on_final", False)):
+            if cb.schedule.due(self):
                 cb.func(self)
+
+    def finalize(self):
+        """End the run at the current step: each callback whose function has a ``finalize(sim)`` method
+        runs it, in the callbacks' order (a snapshot writer writes the last state unless its schedule just
+        did; a checkpoint writer, added last, the last checkpoint, after the others' files are complete).
+
+        `run` calls it when the end time is reached; a caller that ends the run earlier (after
+        ``run(max_steps=...)``) calls it itself. Once per step: a second call at the same step does
+        nothing."""
+        if self.finalized_step == self.step_count:
+            return
+        self.finalized_step = self.step_count
+        for cb in self.callbacks:
+            end = getattr(cb.func, "finalize", None)
+            if end is not None:
+                end(self)
 
     def _choose_dt(self, dt_limit):
         """Clip the stable dt so the next scheduled output time is hit exactly."""
@@ -143,7 +162,7 @@ class Simulation:
         return self.wall_seconds + (_time.perf_counter() - self._run_t0)
 
     def run(self, max_steps=None):
-        """Run to `end_time` (or `max_steps` steps). Returns self."""
+        """Run to `end_time` (or `max_steps` steps); at the end time, `finalize`. Returns self."""
         t0 = self._run_t0 = _time.perf_counter()
         c0 = self.model.backend.compile_seconds
         try:
@@ -161,6 +180,8 @@ class Simulation:
                 self._run_callbacks()
                 for func in self.after_step:
                     func(self)
+            if self.time >= self.end_time * (1 - 1e-12) and not self.stop_requested:
+                self.finalize()
         finally:
             self.wall_seconds += _time.perf_counter() - t0
             self._run_t0 = None

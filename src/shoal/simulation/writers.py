@@ -69,6 +69,11 @@ class SnapshotWriter:
     def __call__(self, sim):
         self.write(sim.model, sim.time)
 
+    def finalize(self, sim):
+        """At the end of a run: the last state, unless the schedule has just written it."""
+        if self.last_time is None or self.last_time < sim.time - 1e-12:
+            self(sim)
+
     def write(self, model, time, suffix=None):
         """Write one snapshot of `model` at `time` [s]; returns the path."""
         fname = f"{self.name}_{self.count:04d}.vtu" if suffix is None else f"{self.name}_{suffix}.vtu"
