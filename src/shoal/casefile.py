@@ -236,6 +236,8 @@ TABLE_DOCS = {
     ("probes", "axis"): 'the flow gauge\'s section is the plane axis = at ("x", "y" or "z")',
     ("probes", "at"): "position of the flow gauge's section along its axis [m]",
     ("probes", "solid"): "name of the solid whose hydrodynamic force the force gauge measures",
+    ("damping", "start"): "a point [m] on the plane where the damping starts (f = 0)",
+    ("damping", "end"): "a point [m] on the plane where it is full (f = 1); f grows from start to end",
     ("damping", "rate"): "damping rate [1/s]: velocity x max(1 - dt rate f^2, 0)",
     ("motions", "start"): "start time [s]",
     ("checkpoint", "interval"): "simulated time between checkpoints [s] (0 = none)",
