@@ -339,9 +339,8 @@ def dumps_case(case, commented=True, file_name="case.toml"):
 
 def write_case(case, path, commented=True):
     """Write `case` as a TOML case file to `path` (atomically)."""
+    from .output.atomic import replace_file
+
     path = Path(path)
     text = dumps_case(case, commented=commented, file_name=path.name)
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    return replace_file(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))

@@ -12,11 +12,14 @@
     shoal validate --report-only [CASE ...] --from DIR [--from DIR ...] --out DIR   merge saved results
     shoal cases
     shoal info
+    shoal --version
 
 Bad input prints one line ``shoal: error: ...`` and exits with status 2;
 a run that goes unstable prints where and why and exits with status 3;
 a run stopped by SIGINT/SIGTERM writes a checkpoint and exits with 130/143
-(``shoal run --resume RUN_DIR`` continues it); a full disk exits with 4.
+(``shoal run --resume RUN_DIR`` continues it); a full disk exits with 4; a
+file the system refuses to read or write (permissions, a missing file) exits
+with 2, in one line.
 """
 
 from __future__ import annotations
@@ -50,7 +53,10 @@ def _positive_float(name):
 
 
 def build_parser():
+    from .version import __version__
+
     p = _Parser(prog="shoal", description="Weakly-compressible SPH for free-surface coastal and hydraulic flows.")
+    p.add_argument("--version", action="version", version=f"shoal {__version__}")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
     r = sub.add_parser("run", help="run a built-in case or a case file (default: the 2D dam-break demo)")
     r.add_argument("case", nargs="?", default=None,
@@ -458,6 +464,12 @@ def main(argv=None):
     except OutputError as err:
         sys.stderr.write(f"shoal: error: {err}\n")
         return 4
+    except OSError as err:  # a file the command reads or writes, refused by the system
+        from .simulation.resources import DISK_FULL
+
+        what = f"{err.strerror or err}" + (f": {err.filename}" if getattr(err, "filename", None) else "")
+        sys.stderr.write(f"shoal: error: {what}\n")
+        return 4 if err.errno in DISK_FULL else 2
     except KeyboardInterrupt as err:
         signum = getattr(err, "signum", 2)
         sys.stderr.write("shoal: aborted; snapshots and checkpoints written so far are kept (resume with "

@@ -31,7 +31,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
 import re
 import tomllib
 from pathlib import Path
@@ -39,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
+from .output.atomic import replace_file
 
 __all__ = ["post", "plot_gauges", "plot_mean_flow", "plot_tracks", "plot_plane", "mean_flow", "parse_plane",
            "surface_levels", "run_info"]
@@ -111,16 +111,7 @@ def _figure(width, height):
 
 
 def _save(fig, path):
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        fig.savefig(tmp, format="png")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    return replace_file(path, lambda tmp: fig.savefig(tmp, format="png"))
 
 
 def _read_csv(path):

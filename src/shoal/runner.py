@@ -189,6 +189,7 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
                             particle_mass=model.mass, **procs.resolved(model))
             (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
             log.info("case %s: %s", case.name, case.description)
+        log.info("shoal %s, Python %s", __version__, platform.python_version())
         procs.log_start(log, case, model, backend, resumed=ck is not None)
     # on a resume, the probe CSVs are set aside before the recorders re-create them, then get back exactly
     # the bytes they held at the checkpoint (a crash in between leaves the data in *.csv.resume)

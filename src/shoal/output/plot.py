@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import os
 
 import numpy as np
 
 from ..physics.spec import FLUID
+from .atomic import replace_file
 
 __all__ = ["plot_particles"]
 
@@ -113,11 +113,4 @@ def plot_particles(
         ax.set_title(title)
     fig.tight_layout()
 
-    path_png = os.fspath(path_png)
-    tmp = path_png + ".tmp"
-    try:
-        fig.savefig(tmp, format="png", dpi=dpi)
-        os.replace(tmp, path_png)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    replace_file(path_png, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))

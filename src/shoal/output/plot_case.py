@@ -10,12 +10,11 @@ state).
 from __future__ import annotations
 
 import math
-import os
-from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from .atomic import replace_file
 
 __all__ = ["plot_case"]
 
@@ -197,16 +196,7 @@ def plot_case(path, positions, kinds, body=None, body_names=None, dim=3, title="
         ax.scatter(x[order], v[order], s=marker, c=rgba[order], linewidths=0, marker="o",
                    rasterized=True)
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        fig.savefig(tmp, format="png", dpi=dpi)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    return replace_file(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
 
 
 def _check_inputs(positions, kinds, body, dim, dp, max_points):

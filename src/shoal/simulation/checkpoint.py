@@ -285,25 +285,39 @@ def fsync_dir(path):
         os.close(fd)
 
 
-def write_checkpoint(path, datasets):
-    """Write `datasets` to `path` atomically (``.tmp``, fsync, `os.replace`)
-    with their SHA-256 as the root attribute ``sha256``. On an error the
-    temporary file is removed and the error re-raised; `path` and every other
-    file are untouched."""
+def hdf5_image(datasets, attrs):
+    """The bytes of an HDF5 file holding `datasets` (name -> array) and the root attributes `attrs`,
+    built in memory.
+
+    HDF5 reports a failed write (a full disk) as an error from deep inside the library, and closing the
+    half-written file then crashes the process; a file built in memory and written with plain
+    ``os.write`` fails as an `OSError` instead, which the caller reports in one line."""
+    import io
+
     import h5py
 
+    buf = io.BytesIO()
+    with h5py.File(buf, "w") as f:
+        for name, a in datasets.items():
+            f.create_dataset(name, data=a)
+        for key, value in attrs.items():
+            f.attrs[key] = value
+    return buf.getbuffer()
+
+
+def write_bytes_atomic(path, data, chunk=1 << 24):
+    """Write `data` to `path` through ``<path>.tmp``: written in chunks, fsynced, then renamed over `path`.
+    On any error (a full disk: `OSError` ENOSPC) the temporary file is removed and the error re-raised;
+    `path` and every other file are untouched."""
     path = Path(path)
     tmp = path.with_name(path.name + ".tmp")
     try:
-        with h5py.File(tmp, "w") as f:
-            for name, a in datasets.items():
-                f.create_dataset(name, data=a)
-            f.attrs["format"] = FORMAT
-            f.attrs["version"] = VERSION
-            f.attrs["sha256"] = _digest(datasets)
-            f.flush()
-        fd = os.open(tmp, os.O_RDONLY)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
         try:
+            view = memoryview(data).cast("B")
+            done = 0
+            while done < len(view):
+                done += os.write(fd, view[done:done + chunk])
             os.fsync(fd)
         finally:
             os.close(fd)
@@ -316,6 +330,17 @@ def write_checkpoint(path, datasets):
         raise
     fsync_dir(path.parent)
     return path
+
+
+def write_checkpoint(path, datasets):
+    """Write `datasets` to `path` atomically (``.tmp``, fsync, `os.replace`)
+    with their SHA-256 as the root attribute ``sha256``. The file is built in
+    memory first (`hdf5_image`: about the checkpoint's size more memory while
+    it is written), so a full disk is an `OSError` (ENOSPC); on any error the
+    temporary file is removed and the error re-raised; `path` and every other
+    file are untouched."""
+    image = hdf5_image(datasets, {"format": FORMAT, "version": VERSION, "sha256": _digest(datasets)})
+    return write_bytes_atomic(path, image)
 
 
 def read_checkpoint(path):

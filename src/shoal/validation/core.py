@@ -207,11 +207,10 @@ def figure(width=7.5, height=3.0):
 
 def save_png(fig, path, max_bytes=MAX_PNG_BYTES):
     """Write `fig` as a PNG (re-saved with a 256-colour palette if over `max_bytes`)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    from ..output.atomic import replace_file
+
     fig.tight_layout()
-    fig.savefig(path, format="png")
-    return shrink_png(path, max_bytes)
+    return shrink_png(replace_file(path, lambda tmp: fig.savefig(tmp, format="png")), max_bytes)
 
 
 def shrink_png(path, max_bytes=MAX_PNG_BYTES):
