@@ -282,6 +282,23 @@ CORPUS = [
                                                     append="\n[[planes]]\npoint = [0.0, 0.0, 0.0]\n"
                                                            "normal = [0.0, 0.0, 1.0]\n")}, None,
      ["wall planes", "need gravity and a fluid.depth"]),
+    # issue 30, class 4: intervals and time steps far below the stable step (the run would never end, or
+    # fill the disk with snapshots): refused before anything runs
+    ("output-interval-1e-300", {"case.toml": edit(("interval = 0.005", "interval = 1e-300"))}, None,
+     ["output.interval = 1e-300 s", "below a hundredth of the stable time step", "give at least"]),
+    ("checkpoint-interval-tiny", {"case.toml": edit(append="\n[checkpoint]\ninterval = 1e-12\n")}, None,
+     ["checkpoint.interval = 1e-12 s", "below a hundredth", "1e+10 steps"]),
+    ("probe-interval-tiny", {"case.toml": edit(append='\n[[probes]]\ntype = "gauge"\nname = "g"\nx = 0.3\n'
+                                                      "z0 = 0.0\nz1 = 0.4\ninterval = 1e-200\n")}, None,
+     ["probes[0].interval = 1e-200 s", "below a hundredth"]),
+    ("fixed-dt-1e-300", {"case.toml": edit(append="\n[options]\nfixed_dt = 1e-300\n")}, None,
+     ["options.fixed_dt = 1e-300 s", "below a hundredth"]),
+    ("fixed-dt-option-flag", {}, ["run", "still-water-2d", "--dp", "0.05", "--option", "fixed_dt=1e-300",
+                                  "--out", "{d}/out"],
+     ["options.fixed_dt = 1e-300 s", "give at least"]),
+    ("output-interval-flag-on-a-case-file", {"case.toml": BASE}, ["run", "{d}/case.toml", "--output-interval",
+                                                                  "1e-300", "--out", "{d}/out"],
+     ["output.interval = 1e-300 s", "below a hundredth"]),
 ]
 
 

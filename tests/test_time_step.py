@@ -93,3 +93,57 @@ def test_a_closing_pair_shortens_the_time_step_as_the_formula_says():
     assert vm_bf == pytest.approx(vm, rel=1e-9)
     assert m.time_step_limit() == pytest.approx(ref, rel=1e-9)
     assert m.time_step_limit() == pytest.approx(m.options.cfl * h / (m.c0 + vm), rel=1e-9)
+
+
+def test_time_interval_counts_without_looping():
+    """A schedule finds the next output time by arithmetic (corrected for rounding), as a loop stepping
+    one interval at a time did, but never loops for ever: for an interval whose times are not distinct
+    numbers at t (1e-300 s at t = 1 s, issue 30) it raises instead of hanging."""
+    import random
+    from types import SimpleNamespace
+
+    from shoal.errors import InputError
+    from shoal.simulation.schedules import TimeInterval
+
+    def by_loop(interval, start, count, time):
+        while start + count * interval <= time + 1e-9 * interval:
+            count += 1
+        return count
+
+    rng = random.Random(1)
+    for _ in range(20000):
+        iv = rng.choice([0.001, 0.004, 0.02, 0.05, 0.1, 1 / 3, 1e-5]) * rng.choice([1.0, 1.0000001, 0.37])
+        start = rng.choice([0.0, iv, 0.5])
+        if rng.random() < 0.5:
+            t = rng.uniform(0.0, 5.0)
+        else:  # on or next to an output time, where rounding decides
+            t = start + iv * rng.randint(0, 400) + rng.choice([0.0, 1e-12, -1e-12, 1e-10 * iv])
+        count = rng.randint(0, 3)
+        s = TimeInterval(iv, start=start)
+        s.count = count
+        if rng.random() < 0.5:
+            s.skip_to(t)
+            expect = by_loop(iv, start, 0, t)
+        else:
+            s.due(SimpleNamespace(time=t))
+            expect = by_loop(iv, start, count, t)
+        assert s.count == expect, (iv, start, count, t)
+    for iv in (1e-300, 1e-17):
+        with pytest.raises(InputError, match="too short to step to t = 1.0 s"):
+            TimeInterval(iv).skip_to(1.0)
+
+
+def test_a_step_that_no_longer_advances_the_time_stops_the_run():
+    """A fixed step below the resolution of the time (1e-20 s at t = 1 s) would repeat the same t for ever:
+    the step stops the run with an InstabilityError naming dt and t (the case check refuses such a step
+    before a run; this guards a Model built from bare arrays)."""
+    from shoal.errors import InstabilityError
+    from shoal.simulation import Simulation
+
+    model = build_model(dam_break_2d(dp=0.146 / 6, a=0.146, layers=2, options=SPHOptions(fixed_dt=1e-4)))
+    model.options = SPHOptions(fixed_dt=1e-20)
+    sim = Simulation(model, end_time=2.0)
+    sim.run(max_steps=1)
+    sim.time = 1.0
+    with pytest.raises(InstabilityError, match="no longer advances t = 1 s"):
+        sim.run(max_steps=1)

@@ -12,6 +12,7 @@ from .probes.placement import check_probes
 
 def build_model(case, backend="cpu"):
     """The `Model` of a `Case`: generate its particles and compile the scheme."""
+    case.revalidate()  # a copy (model_copy) skipped the checks across its fields
     p = case.particles()
     check_probes(case, len(p))  # a probe outside the domain or a tracked id that is no particle
     sym = None

@@ -349,6 +349,7 @@ class Case(BaseModel):
             raise ValueError(f"the speed of sound c0 = coef_sound x {'u_max' if self.fluid.u_max else 'sqrt(|g| depth)'}"
                              f" = {c0:g} m/s must be a positive finite number: check fluid.gravity, fluid.depth, "
                              "fluid.u_max and options.coef_sound")
+        self._check_times(c0)
         if (self.planes or any(s.boundary == "repulsive" for s in self.solids)) and \
                 (self.fluid.depth is None or g == 0.0):
             raise ValueError("repulsive boundaries and wall planes push with K = |g| depth (Monaghan & Kajtar "
@@ -377,6 +378,33 @@ class Case(BaseModel):
                                  "file; give each probe its own name")
             seen.add((pr.type, pr.name))
         return self
+
+    def _check_times(self, c0):
+        """Refuse an interval or a fixed time step below a hundredth of the stable time step.
+
+        The stable step is about dt = min(CFL h / c0, 0.125 h^2 / nu) (Monaghan & Kos 1999 without the
+        force term; the viscous limit with laminar viscosity, as `shoal.model.Model.time_step_limit`).
+        An output or probe time must be landed on, so a shorter interval cuts every step to it; a
+        checkpoint interval that short writes one every step; a fixed step that short runs end_time / dt
+        steps. Below dt / 100 each of these is certainly a mistake (a run of 10^300 steps, a disk filled
+        with snapshots), whatever the flow does to the time step."""
+        o = self.options
+        h = smoothing_length(o.coef_h, self.dim, self.dp)
+        dt = o.cfl * h / c0
+        if o.viscosity == "laminar" and o.nu > 0:
+            dt = min(dt, 0.125 * h * h / o.nu)
+        floor = 0.01 * dt
+        items = [("output.interval", self.output.interval)]
+        if self.checkpoint.interval > 0:
+            items.append(("checkpoint.interval", self.checkpoint.interval))
+        items += [(f"probes[{i}].interval", p.interval) for i, p in enumerate(self.probes)]
+        if o.fixed_dt is not None:
+            items.append(("options.fixed_dt", o.fixed_dt))
+        for name, value in items:
+            if value < floor:
+                raise ValueError(f"{name} = {value:.3g} s is below a hundredth of the stable time step (about "
+                                 f"{dt:.3g} s: CFL h / c0 with h = {h:.3g} m, c0 = {c0:.3g} m/s): the run would "
+                                 f"take {self.end_time / value:.3g} steps; give at least {floor:.3g} s")
 
     # ------------------------------------------------------------ derived
     @property
@@ -503,10 +531,20 @@ class Case(BaseModel):
         return self.particles().n_fluid
 
     def with_options(self, **changes):
-        """A copy with some SPH options changed (validated)."""
+        """A copy with some SPH options changed (validated, the options alone and with the rest of the
+        case: `revalidate`)."""
         from dataclasses import replace
 
-        return self.model_copy(update={"options": replace(self.options, **changes)})
+        return self.model_copy(update={"options": replace(self.options, **changes)}).revalidate()
+
+    def revalidate(self):
+        """Run the checks across fields again (`model_copy` does not), as `InputError`; returns the case.
+        A copy with a changed interval, option or fluid is checked this way before it is built."""
+        try:
+            self._links()
+        except ValueError as err:
+            raise InputError(str(err)) from None
+        return self
 
     def resolved(self):
         """The case as a plain dict with every default filled in (what

@@ -31,6 +31,7 @@ def check_case(case):
     from .simulation.checkpoint import CHECKPOINT_OVERHEAD, checkpoint_bytes
     from .memory import check_memory
 
+    case.revalidate()
     p = case.particles()
     check_probes(case, len(p))
     for m in case.motions:

@@ -181,7 +181,8 @@ def _get_case_checked(get_case, name, kwargs, params):
     try:
         return get_case(name, **kwargs)
     except ValidationError as err:
-        raise InputError(f"case {name!r} with --param {given}: {format_validation_error(err)}") from None
+        raise InputError(f"case {name!r}{f' with --param {given}' if params else ''}: "
+                         f"{format_validation_error(err)}") from None
     except (TypeError, AttributeError) as err:
         if not params:
             raise
@@ -208,6 +209,7 @@ def _make_case(args):
         case = load_case(args.case, overrides=over)
         if args.output_interval is not None:
             case = case.model_copy(update={"output": case.output.model_copy(update={"interval": args.output_interval})})
+            case.revalidate()
     else:
         if args.case not in CASES:
             raise InputError(f"unknown case {args.case!r}; built-in cases: {', '.join(CASES)} "

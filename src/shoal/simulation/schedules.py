@@ -33,11 +33,34 @@ class TimeInterval:
     def _next(self):
         return self.start + self.count * self.interval
 
+    def _pass(self, time):
+        """Advance `count` to the first output time after `time` (within 1e-9 interval): the smallest
+        count >= the current one whose time is later. Computed, then corrected by a step or two for
+        rounding, so a tiny interval or a late time never loops for ever."""
+        eps = 1e-9 * self.interval
+        k = self.count
+        if self.start + k * self.interval <= time + eps:
+            q = (time + eps - self.start) / self.interval
+            k = max(k, math.floor(q)) if q < 2.0**52 else -1  # beyond 2^52 steps the times are not distinct
+            for _ in range(4):
+                if k < 0 or k == self.count or self.start + (k - 1) * self.interval <= time + eps:
+                    break
+                k -= 1
+            for _ in range(4):
+                if k < 0 or self.start + k * self.interval > time + eps:
+                    break
+                k += 1
+            else:
+                k = -1
+            if k < 0:
+                raise InputError(f"interval = {self.interval!r} s is too short to step to t = {time!r} s: its "
+                                 "times are not distinct numbers there")
+        self.count = k
+
     def due(self, sim):
         t_next = self._next()
         if sim.time >= t_next - 1e-9 * self.interval:
-            while self._next() <= sim.time + 1e-9 * self.interval:
-                self.count += 1
+            self._pass(sim.time)
             return True
         return False
 
@@ -54,8 +77,7 @@ class TimeInterval:
         """Fire next at the first multiple strictly after `time` [s] (a
         schedule added on a restart)."""
         self.count = 0
-        while self._next() <= time + 1e-9 * self.interval:
-            self.count += 1
+        self._pass(time)
 
 
 class IterationInterval:

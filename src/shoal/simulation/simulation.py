@@ -133,6 +133,9 @@ class Simulation:
                 dt = gap
             elif 2 * dt > gap:
                 dt = 0.5 * gap  # two even steps rather than a normal one and a sliver
+        if not self.time + dt > self.time:
+            raise InstabilityError(f"the step dt = {dt:.3g} s no longer advances t = {self.time:.9g} s (a schedule's "
+                                   "interval or a fixed time step far below the time's resolution)")
         self.dt = dt
         return dt
 
