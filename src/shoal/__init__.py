@@ -22,6 +22,22 @@ import os as _os
 # short spin keeps idle-machine speed and removes that collapse.
 _os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
+import sys as _sys  # noqa: E402
+
+from .environment import numba_environment_error as _numba_environment_error  # noqa: E402
+
+# Numba reads its variables on import (below): a setting it cannot start with is one line, not a traceback
+# from inside Numba -- on the command line (`shoal`, `python -m shoal`) an exit with status 2, in Python an
+# InputError from `import shoal`.
+_bad = _numba_environment_error(_os.environ)
+if _bad:
+    from .errors import InputError as _InputError
+
+    if _os.path.basename(_sys.argv[0] if _sys.argv else "") in ("shoal", "-m"):
+        _sys.stderr.write(f"shoal: error: {_bad}\n")
+        raise SystemExit(2)
+    raise _InputError(_bad)
+
 import numpy as _np  # noqa: E402
 
 # numba-cuda (0.30.4 and earlier) registers an overload of numpy.row_stack when

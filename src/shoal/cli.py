@@ -26,9 +26,11 @@ from __future__ import annotations
 
 import argparse
 import inspect
+import os
 import sys
 from pathlib import Path
 
+from .environment import numba_environment_error
 from .errors import InputError, InstabilityError, OutputError, RunInterrupted
 
 DEFAULT_CASE = "dam-break-2d"
@@ -452,6 +454,9 @@ def main(argv=None):
         parser.print_help()
         return 0
     try:
+        bad = numba_environment_error(os.environ)
+        if bad:
+            raise InputError(bad)
         return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info, "check": cmd_check, "new": cmd_new,
                 "plot-case": cmd_plot_case, "post": cmd_post, "validate": cmd_validate}[args.command](args)
     except InputError as err:
@@ -466,6 +471,12 @@ def main(argv=None):
     except OutputError as err:
         sys.stderr.write(f"shoal: error: {err}\n")
         return 4
+    except BrokenPipeError:  # the reader went away (shoal cases | head -1): end quietly, as a killed writer
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # the flush at exit fails no more
+        except OSError:
+            pass
+        return 141
     except OSError as err:  # a file the command reads or writes, refused by the system
         from .simulation.resources import DISK_FULL
 
