@@ -296,6 +296,15 @@ CORPUS = [
     ("fixed-dt-option-flag", {}, ["run", "still-water-2d", "--dp", "0.05", "--option", "fixed_dt=1e-300",
                                   "--out", "{d}/out"],
      ["options.fixed_dt = 1e-300 s", "give at least"]),
+    # issue 30, classes 3 and 7: a run named after a folder, an endless name, a number with a typo
+    ("case-name-dot-dot", {"case.toml": edit(('name = "tank"', 'name = ".."'))}, None,
+     ["name = '..'", "not dots alone"]),
+    ("case-name-dot", {"case.toml": edit(('name = "tank"', 'name = "."'))}, None, ["name = '.'", "not dots alone"]),
+    ("case-name-300-characters", {"case.toml": edit(('name = "tank"', f'name = "{"x" * 300}"'))}, None,
+     ["300 characters", "at most 100"]),
+    ("dp-with-an-underscore", {}, ["check", "still-water-2d", "--dp", "0_05"], ["--dp must be a number", "'0_05'"]),
+    ("end-time-with-an-underscore", {}, ["check", "still-water-2d", "--end-time", "1_0"],
+     ["--end-time must be a number", "'1_0'"]),
     ("output-interval-flag-on-a-case-file", {"case.toml": BASE}, ["run", "{d}/case.toml", "--output-interval",
                                                                   "1e-300", "--out", "{d}/out"],
      ["output.interval = 1e-300 s", "below a hundredth"]),
@@ -443,3 +452,12 @@ def test_subprocess_exit_2_without_traceback(files, args, fragment, tmp_path):
     lines = proc.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("shoal: error: ") and fragment in lines[0], proc.stderr
     assert not (tmp_path / "runs").exists()  # nothing was written
+
+
+def test_check_shows_a_description_without_its_control_characters(tmp_path, capsys):
+    """An untrusted case file's description reaches the terminal with its escape sequences replaced."""
+    text = BASE.replace('name = "tank"\n', 'name = "tank"\ndescription = "x\\u001b[31mred\\u0007"\n', 1)
+    (tmp_path / "case.toml").write_text(text, encoding="utf-8")
+    assert _cli(["check", str(tmp_path / "case.toml")]) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and "\x07" not in out and out.splitlines()[0] == "case tank: x?[31mred?"

@@ -27,7 +27,7 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, StrictBool, model_validator
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, StrictBool, model_validator
 
 from .errors import InputError
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
@@ -258,13 +258,20 @@ class Checkpointing(Spec):
     keep: Annotated[int, Field(ge=1, strict=True)] = 2
 
 
+def _short_name(name):
+    """A case name is part of every output file's name: at most 100 characters."""
+    if len(name) > 100:
+        raise ValueError(f"{len(name)} characters: a case name has at most 100 (it starts every output file's name)")
+    return name
+
+
 class Case(BaseModel):
     """A simulation set-up (see the module docstring for an example).
 
     Parameters
     ----------
     name : str
-        Case name (output file names).
+        Case name (output file names): letters, digits, _ . - (not only dots), at most 100 characters.
     dim : {2, 3}
         2D runs use the x-z plane.
     dp : float
@@ -301,7 +308,8 @@ class Case(BaseModel):
 
     model_config = ConfigDict(extra="forbid", validate_assignment=True, arbitrary_types_allowed=False)
 
-    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$", strict=True)]
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]*[A-Za-z0-9_\-][A-Za-z0-9_.\-]*$", strict=True),
+                    AfterValidator(_short_name)]
     dim: Annotated[Literal[2, 3], BeforeValidator(_exact_int("dim", "2 or 3"))]
     dp: PositiveReal
     end_time: PositiveReal = 1.0

@@ -196,7 +196,8 @@ def format_validation_error(err):
             return f"{path}{text[len(key):]}{more}"
         return f"{path}: {text}{more}"
     if typ == "string_pattern_mismatch":
-        return f"{path} = {_short(e.get('input'))}: use letters, digits, '_', '.' and '-' only{more}"
+        return (f"{path} = {_short(e.get('input'))}: use letters, digits, '_', '.' and '-' only, and not dots "
+                f"alone ('.' and '..' name folders){more}")
     if typ == "bool_parsing" or typ == "bool_type":
         return f"{path} = {_short(e.get('input'))}: must be true or false{more}"
     if typ in ("float_type", "int_type", "float_parsing", "int_parsing", "int_from_float", "literal_error") \
@@ -206,7 +207,7 @@ def format_validation_error(err):
     text = re.sub(r"^Input should be", "must be", msg)
     text = text.replace("a valid tuple", "an array").replace("a valid list", "an array")
     text = text.replace("a valid integer", "an integer").replace("a valid number", "a number")
-    text = re.sub(r"^(Tuple|List) should have", "must have", text)
+    text = re.sub(r"^(Tuple|List|String) should have", "must have", text)
     text = text.replace(" items after validation", " values").replace(" item after validation", " value")
     text = text.replace("Input", "the value")
     return f"{path} = {_short(e.get('input'))}: {text}{more}"

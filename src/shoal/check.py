@@ -55,7 +55,8 @@ def check_case(case):
     snaps = math.floor(snaps) if snaps < 1e15 else snaps
     steps = math.ceil(steps) if steps < 1e15 else steps
     counts = p.counts()
-    lines = [f"case {case.name}: {case.description}" if case.description else f"case {case.name}",
+    shown = "".join(ch if ch.isprintable() else "?" for ch in case.description)  # no terminal escapes
+    lines = [f"case {case.name}: {shown}" if case.description else f"case {case.name}",
              f"  {dim}D, dp = {case.dp:g} m, h = {h:.4g} m ({o.kernel}), c0 = {c0:.4g} m/s, "
              f"{o.integrator}, {o.precision}",
              f"  particles: {n:,} = {counts['fluid']:,} fluid + {counts['fixed']:,} fixed boundary + "

@@ -45,6 +45,8 @@ class _Parser(argparse.ArgumentParser):
 def _positive_float(name):
     def conv(text):
         try:
+            if "_" in text:  # float() reads 0_05 as 5: a typo, not a number
+                raise ValueError
             v = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
