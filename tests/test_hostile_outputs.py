@@ -240,3 +240,41 @@ def test_injected_enospc_during_a_checkpoint_is_one_line(tmp_path, monkeypatch, 
     assert _cli(["run", "--resume", str(out), "--no-progress", "--no-plot"]) == 0
     capsys.readouterr()
     assert latest_checkpoint(out).time == pytest.approx(0.1)
+
+
+# ------------------------------------------------------------------ run directories
+@pytest.mark.parametrize("name,content", [("case.toml", "# my own commented case\n"), ("run.log", "my notes\n"),
+                                          ("gauge_g.csv", "time,level\n"), ("still-water-2d.pvd", "<mine/>\n"),
+                                          ("still-water-2d_0000.vtu", "mine\n")])
+def test_a_run_never_replaces_a_file_no_shoal_run_wrote(name, content, tmp_path, monkeypatch, capsys):
+    """`--out .` beside one's own case.toml (or any file a run would write there): refused with one line
+    naming the file, with or without --overwrite (which is for shoal's own runs), the file unchanged."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / name).write_text(content)
+    for extra in ([], ["--overwrite"]):
+        assert _cli(["run", *RUN, "--out", ".", *extra]) == 2
+        line = _one_line(capsys.readouterr().err)
+        assert f"holds {name}, which no shoal run wrote" in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name] and (tmp_path / name).read_text() == content
+
+
+def test_overwrite_leaves_nothing_of_the_earlier_run(tmp_path, capsys):
+    """--overwrite removes the earlier run's snapshots and probe records before the new run: a shorter run
+    with other probes leaves no snapshot numbered past its own and no CSV of a probe it does not have; a
+    file of the user's in the run directory stays."""
+    import shoal
+    from shoal.probes import WaveGauge
+
+    out = tmp_path / "run"
+    case = shoal.cases.still_water_2d(dp=0.05, end_time=0.1, output_interval=0.02)
+    first = case.model_copy(update={"probes": [WaveGauge(name="old", x=0.3, z0=0.0, z1=0.4, interval=0.01)]})
+    shoal.run_case(first, out, plot=False)
+    (out / "notes.txt").write_text("mine\n")
+    assert (out / "gauge_old.csv").exists() and (out / "still-water-2d_0005.vtu").exists()
+    second = case.model_copy(update={"end_time": 0.04,
+                                     "probes": [WaveGauge(name="new", x=0.3, z0=0.0, z1=0.4, interval=0.01)]})
+    shoal.run_case(second, out, plot=False, overwrite=True)
+    names = sorted(p.name for p in out.iterdir())
+    assert "gauge_old.csv" not in names and "gauge_new.csv" in names and "notes.txt" in names
+    assert sorted(n for n in names if n.endswith(".vtu")) == [f"still-water-2d_000{k}.vtu" for k in range(3)]
+    assert latest_checkpoint(out).time == pytest.approx(0.04)

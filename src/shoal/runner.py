@@ -129,6 +129,7 @@ def _run(case, out_dir, procs, model, point, backend, progress, plot, max_steps,
     resume is an InputError, a full disk an OutputError naming the last checkpoint."""
     from .simulation.checkpoint import CheckpointError, clear_checkpoints, set_aside_newer
     from .simulation.resources import DISK_FULL, disk_full_message
+    from .simulation.run_files import clear_run
 
     log = None
     state = {"checkpoint": point.path}
@@ -136,6 +137,7 @@ def _run(case, out_dir, procs, model, point, backend, progress, plot, max_steps,
         if procs.rank == 0:
             try:
                 if point.ck is None:
+                    clear_run(out_dir, case)  # the earlier run's files: none is read as this run's
                     clear_checkpoints(out_dir)  # a new run never resumes from an older run's state
                 else:
                     set_aside_newer(out_dir, point.ck.step)

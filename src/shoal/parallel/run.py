@@ -62,6 +62,7 @@ import numpy as np
 
 from ..errors import InputError, InstabilityError, OutputError, RunInterrupted
 from ..simulation.run_log import print_warning
+from ..simulation.run_files import refuse_foreign_files
 from .collective import CollectiveError, agree, collective_check, write_error
 from .decomposition import imbalance, weighted_counts
 
@@ -266,6 +267,8 @@ class Ranks:
                 elif not overwrite and (out_dir / "resolved.json").exists():
                     raise InputError(f"{out_dir} already holds a run (resolved.json); choose another --out directory "
                                      "or pass --overwrite")
+                else:
+                    refuse_foreign_files(out_dir, case)
                 check_memory(case)
                 out_dir.mkdir(parents=True, exist_ok=True)
             except InputError as err:

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import InputError, InstabilityError, OutputError
 from .run_log import print_warning
+from .run_files import refuse_foreign_files
 
 
 @dataclass
@@ -53,6 +54,8 @@ class OneProcess:
         elif not overwrite and (out_dir / "resolved.json").exists():
             raise InputError(f"{out_dir} already holds a run (resolved.json); choose another --out directory "
                              "or pass --overwrite (or --resume to continue it)")
+        else:
+            refuse_foreign_files(out_dir, case)
         check_memory(point.case)
         return point
 
