@@ -26,6 +26,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from shoal.cli import main
@@ -101,6 +102,18 @@ RUN = ["--out", "{d}/out", "--no-plot", "--no-progress"]
 
 # (id, files {name: text or bytes} written into the test's directory, argv ({d}: that directory),
 #  fragments the error line must hold)
+BATHY_NPZ = '\n[[solids]]\nname = "bed"\nshape = { type = "bathymetry", file = "bed.npz", base = -0.2 }\n'
+
+
+def _npz(x=(0.0, 0.6), y=(0.0, 1.0), z=((-0.1, -0.1), (-0.1, -0.1))):
+    """The bytes of an .npz height map with arrays x, y and z."""
+    import io
+
+    buf = io.BytesIO()
+    np.savez(buf, x=np.asarray(x, float), y=np.asarray(y, float), z=np.asarray(z, float))
+    return buf.getvalue()
+
+
 CORPUS = [
     # ------------------------------------------------------------ malformed TOML
     ("toml-missing-value", {"case.toml": edit(("dp = 0.05", "dp = "))}, None, ["not valid TOML", "line 3"]),
@@ -296,6 +309,13 @@ CORPUS = [
     ("fixed-dt-option-flag", {}, ["run", "still-water-2d", "--dp", "0.05", "--option", "fixed_dt=1e-300",
                                   "--out", "{d}/out"],
      ["options.fixed_dt = 1e-300 s", "give at least"]),
+    # issue 30, classes 6 and 7: a height map whose grid is not increasing, misshapen, or has holes
+    ("npz-bathymetry-with-nan", {"case.toml": edit(append=BATHY_NPZ), "bed.npz": _npz(z=[[0.0, np.nan], [0.1, 0.1]])},
+     None, ["bed.npz", "NaN or infinite", "height at every node"]),
+    ("npz-bathymetry-decreasing-x", {"case.toml": edit(append=BATHY_NPZ), "bed.npz": _npz(x=[1.0, 0.0])}, None,
+     ["bed.npz", "x must be at least 2 finite, increasing values"]),
+    ("npz-bathymetry-z-misshapen", {"case.toml": edit(append=BATHY_NPZ), "bed.npz": _npz(z=[[0.0, 0.1, 0.2]])}, None,
+     ["bed.npz", "not (len(x), len(y)) = (2, 2)"]),
     # issue 30, classes 3 and 7: a run named after a folder, an endless name, a number with a typo
     ("case-name-dot-dot", {"case.toml": edit(('name = "tank"', 'name = ".."'))}, None,
      ["name = '..'", "not dots alone"]),

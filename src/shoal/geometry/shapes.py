@@ -20,6 +20,7 @@ Units are metres; x along the flume (cross-shore), y lateral, z up.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Annotated, Callable, ClassVar, Literal, Union
 
@@ -50,17 +51,20 @@ def _unit_vector(v):
 
 
 def _case_relative(v, info: ValidationInfo):
+    """The absolute path of a data file named in a case: relative to the case file's folder (the current
+    folder for a case built in Python), so that the resolved case a run writes beside its output, and a
+    resumed run, point at the same file from wherever they are read."""
     base = (info.context or {}).get("base_dir")
-    p = Path(v)
+    p = Path(v).expanduser()
     if not p.is_absolute() and base is not None:
         p = Path(base) / p
-    return str(p)
+    return os.path.abspath(p)
 
 
 UnitVec3 = Annotated[Vec3, AfterValidator(_unit_vector)]
 """A direction, normalised to unit length (a zero vector is refused)."""
 CasePath = Annotated[str, AfterValidator(_case_relative)]
-"""A file path; relative paths are relative to the case file's directory."""
+"""A file path, stored absolute; relative paths are relative to the case file's directory."""
 
 FACES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 Face = Literal["xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "top", "bottom"]
@@ -359,6 +363,18 @@ class HeightGrid(Spec):
         return self
 
 
+def _check_height_grid(path, x, y, z):
+    """InputError unless x and y are increasing 1D arrays of at least 2 and z a finite (len(x), len(y)) array."""
+    for name, a in (("x", x), ("y", y)):
+        if a.ndim != 1 or len(a) < 2 or not np.all(np.isfinite(a)) or np.any(np.diff(a) <= 0):
+            raise InputError(f"bathymetry file {str(path)!r}: {name} must be at least 2 finite, increasing values")
+    if z.shape != (len(x), len(y)):
+        raise InputError(f"bathymetry file {str(path)!r}: z is {z.shape}, not (len(x), len(y)) = {(len(x), len(y))}")
+    if not np.all(np.isfinite(z)):
+        raise InputError(f"bathymetry file {str(path)!r}: z holds {int(np.count_nonzero(~np.isfinite(z)))} NaN or "
+                         "infinite values; give the bed's height at every node")
+
+
 def _read_height_file(path):
     """(x, y, z) of a height map file: .npz with arrays x, y, z (z[i, j] at
     (x[i], y[j])), .npy of an (N, 3) array or .csv/.txt of x, y, z columns
@@ -369,13 +385,17 @@ def _read_height_file(path):
     try:
         if p.suffix == ".npz":
             with np.load(p) as d:
-                return np.asarray(d["x"], float), np.asarray(d["y"], float), np.asarray(d["z"], float)
+                x, y, z = (np.asarray(d[k], float) for k in ("x", "y", "z"))
+            _check_height_grid(path, x, y, z)
+            return x, y, z
         if p.suffix == ".npy":
             pts = np.load(p)
         else:
             pts = np.genfromtxt(p, delimiter="," if p.suffix == ".csv" else None, comments="#",
                                 skip_header=0, invalid_raise=True)
             pts = pts[np.all(np.isfinite(pts), axis=1)] if pts.ndim == 2 else pts
+    except InputError:
+        raise
     except Exception as exc:  # any parse failure is bad input
         raise InputError(f"bathymetry file {str(path)!r} could not be read: {' '.join(str(exc).split())}") from None
     pts = np.asarray(pts, float)
