@@ -316,6 +316,9 @@ CORPUS = [
      ["bed.npz", "x must be at least 2 finite, increasing values"]),
     ("npz-bathymetry-z-misshapen", {"case.toml": edit(append=BATHY_NPZ), "bed.npz": _npz(z=[[0.0, 0.1, 0.2]])}, None,
      ["bed.npz", "not (len(x), len(y)) = (2, 2)"]),
+    # issue 30, class 8: a report merged from nothing
+    ("validate-report-only-from-nothing", {}, ["validate", "--report-only", "--out", "{d}/out"],
+     ["nothing to merge", "no results.json", "shoal validate --out DIR"]),
     # issue 30, classes 3 and 7: a run named after a folder, an endless name, a number with a typo
     ("case-name-dot-dot", {"case.toml": edit(('name = "tank"', 'name = ".."'))}, None,
      ["name = '..'", "not dots alone"]),

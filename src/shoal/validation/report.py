@@ -352,6 +352,10 @@ def merge_reports(sources, out, cases=None, command=None):
                         "`shoal validate --report-only --from DIR`)")
             r.commit, r.dirty, r.commit_note = source_state()
             r.measured, r.machine = utc_date(), machine_text()
+    if not merged:
+        where = ", ".join(str(s) for s in sources or []) or f"{out} (no results.json)"
+        raise InputError(f"nothing to merge: no saved result{' of ' + ', '.join(cases) if cases else ''} in {where}; "
+                         "run `shoal validate --out DIR` first, then merge with `--from DIR`")
     order = list(VALIDATION_CASES)
     results = sorted(merged.values(), key=lambda r: (order.index(r.case) if r.case in order else len(order)))
     write_report(results, out)
