@@ -278,3 +278,30 @@ def test_overwrite_leaves_nothing_of_the_earlier_run(tmp_path, capsys):
     assert "gauge_old.csv" not in names and "gauge_new.csv" in names and "notes.txt" in names
     assert sorted(n for n in names if n.endswith(".vtu")) == [f"still-water-2d_000{k}.vtu" for k in range(3)]
     assert latest_checkpoint(out).time == pytest.approx(0.04)
+
+
+# ------------------------------------------------------------------ Ctrl-C
+def test_ctrl_c_before_the_time_loop_leaves_nothing_that_blocks_a_rerun(tmp_path, monkeypatch, capsys):
+    """Ctrl-C while the kernels compile (here: at the first sort, after the run directory's set-up files are
+    written): no advice to resume what cannot be resumed, and no directory that needs --overwrite; the same
+    command then runs. During particle generation (before any file): the same answer, nothing written."""
+    import shoal.model
+    import shoal.runner
+
+    out = tmp_path / "run"
+    real_sort = shoal.model.Model.sort
+
+    def interrupted(self):
+        raise KeyboardInterrupt
+
+    for where, target, name in (("compile", shoal.model.Model, "sort"), ("generation", shoal.runner, "build_model")):
+        monkeypatch.setattr(target, name, interrupted if where == "compile" else lambda *a, **k: interrupted(None))
+        assert _cli(["run", *RUN, "--out", str(out)]) == 130
+        line = _one_line(capsys.readouterr().err, start="shoal: aborted")
+        assert "nothing to resume" in line and "--resume" not in line and "--overwrite" not in line, line
+        assert not out.exists(), sorted(p.name for p in out.iterdir())
+        monkeypatch.undo()
+    assert shoal.model.Model.sort is real_sort
+    assert _cli(["run", *RUN, "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert latest_checkpoint(out).time == pytest.approx(0.1)

@@ -260,13 +260,40 @@ def _cmd_resume(args):
     if not out.is_dir():
         raise InputError(f"--resume {args.resume}: no such run directory")
     print(f"shoal: resuming {out}")
-    res = resume_run(out, end_time=args.end_time, checkpoint_interval=args.checkpoint_interval,
-                     backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
-                     plot=not args.no_plot)
+    try:
+        res = resume_run(out, end_time=args.end_time, checkpoint_interval=args.checkpoint_interval,
+                         backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
+                         plot=not args.no_plot)
+    except KeyboardInterrupt as err:
+        err.shoal_message = f"aborted; the run's checkpoints are kept (resume with shoal run --resume {out})"
+        raise
     print(f"shoal: resumed from {res.resumed_from.name}; now at step {res.steps}, t = {res.time:.4g} s "
           f"({res.wall_seconds:.1f} s wall in all); {res.snapshots} snapshots in {res.out_dir}/; "
           f"escaped particles: {res.escaped}")
     return 0
+
+
+def _interrupted_start(out, case):
+    """What to say of a new run interrupted outside its time loop (Ctrl-C while the particles are generated
+    or the kernels compiled; in the loop a signal ends the run with a checkpoint): with a checkpoint, how to
+    resume; without one, the files the start wrote are removed, so the case runs again without --overwrite."""
+    from .simulation.checkpoint import list_checkpoints
+    from .simulation.resume import list_manifests
+    from .simulation.run_files import clear_run
+
+    if out.is_dir() and (list_checkpoints(out) or list_manifests(out)):
+        return f"aborted; snapshots and checkpoints written so far are kept (resume with shoal run --resume {out})"
+    if any(out.glob(f"{case.name}_[0-9]*")):  # the time loop had started: keep what it wrote
+        return (f"aborted before the run's first checkpoint: nothing to resume; the snapshots written so far "
+                f"are kept in {out} (run again with --overwrite to start over)")
+    if out.is_dir() and (out / "resolved.json").exists():
+        clear_run(out, case)
+        lock = out / ".shoal.lock"
+        if lock.exists():
+            lock.unlink()
+        if not any(out.iterdir()):
+            out.rmdir()
+    return "aborted before the run's first checkpoint: nothing to resume and nothing kept; run it again to start over"
 
 
 def cmd_run(args):
@@ -288,8 +315,12 @@ def cmd_run(args):
                          "or pass --overwrite")
     print(f"shoal: {case.name}: {case.n_particles} particles ({case.n_fluid} fluid), dp = {case.dp:g} m, "
           f"t_end = {case.end_time:g} s, {case.options.precision}, backend {args.backend}")
-    res = run_case(case, out, backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
-                   plot=not args.no_plot, overwrite=args.overwrite)
+    try:
+        res = run_case(case, out, backend=args.backend, progress=not args.no_progress and sys.stderr.isatty(),
+                       plot=not args.no_plot, overwrite=args.overwrite)
+    except KeyboardInterrupt as err:
+        err.shoal_message = _interrupted_start(Path(out), case)
+        raise
     print(f"shoal: {res.steps} steps to t = {res.time:.4g} s in {res.wall_seconds:.1f} s "
           f"({res.compile_seconds:.1f} s compiling), {res.particle_steps_per_second:.3g} particle-steps/s; "
           f"{res.snapshots} snapshots in {res.out_dir}/ ({case.name}.pvd); escaped particles: {res.escaped}")
@@ -487,8 +518,7 @@ def main(argv=None):
         return 4 if err.errno in DISK_FULL else 2
     except KeyboardInterrupt as err:
         signum = getattr(err, "signum", 2)
-        sys.stderr.write("shoal: aborted; snapshots and checkpoints written so far are kept (resume with "
-                         "shoal run --resume RUN_DIR)\n")
+        sys.stderr.write(f"shoal: {getattr(err, 'shoal_message', 'aborted')}\n")
         return 128 + signum
 
 
