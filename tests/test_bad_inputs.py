@@ -316,6 +316,14 @@ CORPUS = [
      ["bed.npz", "x must be at least 2 finite, increasing values"]),
     ("npz-bathymetry-z-misshapen", {"case.toml": edit(append=BATHY_NPZ), "bed.npz": _npz(z=[[0.0, 0.1, 0.2]])}, None,
      ["bed.npz", "not (len(x), len(y)) = (2, 2)"]),
+    # issue 30, class 6: inputs at the limits
+    ("dp-1e-300-on-a-built-in-case", {}, ["check", "still-water-2d", "--dp", "1e-300"],
+     ["dp = 1e-300 m", "a million times finer", "use dp >="]),
+    ("case-file-nested-5000-deep", {"case.toml": "a = " + "[" * 5000 + "]" * 5000 + "\n"}, None,
+     ["nested too deeply"]),
+    ("post-a-probe-csv-that-is-not-utf8", {"run/gauge_g.csv": b"time,level\n\xff\xfe,1\n", "run/resolved.json": "{}"},
+     ["post", "{d}/run", "--out", "{d}/plots"], ["gauge_g.csv", "not UTF-8 text"]),
+    ("case-file-path-5000-characters", {}, ["check", "{d}/" + "x" * 5000 + ".toml"], ["..."]),
     # issue 30, class 8: a report merged from nothing
     ("validate-report-only-from-nothing", {}, ["validate", "--report-only", "--out", "{d}/out"],
      ["nothing to merge", "no results.json", "shoal validate --out DIR"]),

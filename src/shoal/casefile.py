@@ -57,6 +57,8 @@ def load_case(path, overrides=None):
         raise InputError(f"{path}: not valid TOML: {exc}") from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a text file (a TOML case file is UTF-8 text)") from None
+    except RecursionError:
+        raise InputError(f"{path}: tables or arrays nested too deeply to be a case file") from None
     if overrides:
         data.update(overrides)
     return case_from_dict(data, source=str(path), base_dir=path.parent)

@@ -513,7 +513,9 @@ def main(argv=None):
     except OSError as err:  # a file the command reads or writes, refused by the system
         from .simulation.resources import DISK_FULL
 
-        what = f"{err.strerror or err}" + (f": {err.filename}" if getattr(err, "filename", None) else "")
+        name = str(getattr(err, "filename", None) or "")
+        name = name if len(name) <= 200 else name[:100] + "..." + name[-60:]
+        what = f"{err.strerror or err}" + (f": {name}" if name else "")
         sys.stderr.write(f"shoal: error: {what}\n")
         return 4 if err.errno in DISK_FULL else 2
     except KeyboardInterrupt as err:

@@ -116,8 +116,11 @@ def _save(fig, path):
 
 def _read_csv(path):
     """Header and float rows of a probe CSV (an empty file gives no rows)."""
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+    except UnicodeDecodeError:
+        raise InputError(f"{path} is not a probe CSV written by shoal (not UTF-8 text)") from None
     if not rows:
         return [], np.zeros((0, 0))
     try:

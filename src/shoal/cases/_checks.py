@@ -11,6 +11,9 @@ def check_dp(dp, length_scale, what="the smallest fluid dimension"):
     if dp * 4 > length_scale:
         raise InputError(f"dp = {dp!r} m is too coarse: {what} is {length_scale:g} m; "
                          f"use dp <= {length_scale / 4:g} m (at least 4 particles across)")
+    if dp < 1e-6 * length_scale:  # a million particles across, a million times over: no machine holds it
+        raise InputError(f"dp = {dp!r} m is more than a million times finer than {what} ({length_scale:g} m); "
+                         f"use dp >= {1e-6 * length_scale:g} m")
 
 
 def check_positive(name, value, unit):
