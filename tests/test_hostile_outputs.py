@@ -305,3 +305,19 @@ def test_ctrl_c_before_the_time_loop_leaves_nothing_that_blocks_a_rerun(tmp_path
     assert _cli(["run", *RUN, "--out", str(out)]) == 0
     capsys.readouterr()
     assert latest_checkpoint(out).time == pytest.approx(0.1)
+
+
+def test_an_output_directory_that_is_a_loop_of_links_is_named(tmp_path, capsys):
+    """`--out` at a symbolic link that leads nowhere (a loop): one line saying so, not "File exists"."""
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    assert _cli(["run", *RUN, "--out", str(tmp_path / "a")]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert "symbolic link that leads to no folder" in line and "File exists" not in line, line
+
+
+def test_a_case_far_too_large_is_refused_with_readable_figures(capsys):
+    """A spacing a million times finer than the tank: the memory refusal quotes its figures in 3 digits."""
+    assert _cli(["check", "still-water-2d", "--dp", "1e-6"]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert "particles would be generated" in line and len(line) < 300, line

@@ -40,7 +40,7 @@ def check_count(n_estimate, dim):
     if mem and n_estimate * BYTES_PER_PARTICLE > 0.8 * mem:
         fit = int(0.8 * mem / BYTES_PER_PARTICLE)
         raise InputError(f"about {n_estimate:.3g} particles would be generated, needing about "
-                         f"{n_estimate * BYTES_PER_PARTICLE / 2**30:.1f} GiB; this machine has "
+                         f"{n_estimate * BYTES_PER_PARTICLE / 2**30:.3g} GiB; this machine has "
                          f"{mem / 2**30:.1f} GiB, enough for about {fit:.2g} particles: use a larger dp")
 
 

@@ -62,7 +62,7 @@ import numpy as np
 
 from ..errors import InputError, InstabilityError, OutputError, RunInterrupted
 from ..simulation.run_log import print_warning
-from ..simulation.run_files import refuse_foreign_files
+from ..simulation.run_files import dangling_link, refuse_foreign_files
 from .collective import CollectiveError, agree, collective_check, write_error
 from .decomposition import imbalance, weighted_counts
 
@@ -274,7 +274,7 @@ class Ranks:
             except InputError as err:
                 msg = str(err)
             except OSError as err:
-                msg = f"cannot write to the output directory {out_dir}: {err.strerror or err}"
+                msg = dangling_link(out_dir) or f"cannot write to the output directory {out_dir}: {err.strerror or err}"
         agree(self.comm, msg)
         if not resume:
             return StartPoint(case)

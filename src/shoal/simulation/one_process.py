@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import InputError, InstabilityError, OutputError
 from .run_log import print_warning
-from .run_files import refuse_foreign_files
+from .run_files import dangling_link, refuse_foreign_files
 
 
 @dataclass
@@ -73,6 +73,8 @@ class OneProcess:
         except OSError as err:
             if err.errno in DISK_FULL:
                 raise OutputError(disk_full_message(err, out_dir)) from None
+            if dangling_link(out_dir):
+                raise InputError(dangling_link(out_dir)) from None
             if out_dir.exists() and not out_dir.is_dir():
                 raise InputError(f"the output directory {out_dir} is a file; choose another --out directory") from None
             raise InputError(f"cannot write to the output directory {out_dir}: {err.strerror or err}") from None

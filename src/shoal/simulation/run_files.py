@@ -63,6 +63,16 @@ def refuse_foreign_files(out_dir, case):
                          "run there would replace it; choose another --out directory")
 
 
+def dangling_link(out_dir):
+    """`InputError` text when `out_dir` is a symbolic link that leads to no folder (a missing target or a
+    loop of links), else None: creating the folder there fails with a bare "File exists"."""
+    out_dir = Path(out_dir)
+    if out_dir.is_symlink() and not out_dir.is_dir():
+        return (f"the output directory {out_dir} is a symbolic link that leads to no folder (a missing target or "
+                "a loop of links); choose another --out directory")
+    return None
+
+
 def clear_run(out_dir, case):
     """Remove the earlier run's files from `out_dir` (those of its case name and of `case`'s), before a new
     run of `case` starts there (``--overwrite``)."""
