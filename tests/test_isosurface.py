@@ -111,6 +111,7 @@ def test_post_isosurface_writes_a_mesh_series_that_keeps_the_water(dam_run, caps
     (["--isosurface", "--iso-level", "1.5"], "allowed 0 < level < 1"),
     (["--isosurface", "--iso-spacing", "-1"], "--iso-spacing"),
     (["--isosurface", "--backend", "tpu"], "tpu"),
+    (["--isosurface", "--iso-spacing", "1e-7"], "give a larger spacing"),  # refused at the first snapshot
 ])
 def test_post_isosurface_bad_input_is_one_line(dam_run, tmp_path, capsys, args, message):
     _, run = dam_run
@@ -118,3 +119,4 @@ def test_post_isosurface_bad_input_is_one_line(dam_run, tmp_path, capsys, args, 
     err = capsys.readouterr().err
     assert rc == 2 and err.startswith("shoal: error: ") and err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").rglob("*.vtu"))
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").rglob("*.pvd"))  # no empty collection

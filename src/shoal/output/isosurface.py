@@ -147,15 +147,19 @@ def write_isosurfaces(run_dir, out=None, spacing=None, level=0.5, backend="cpu")
     if not 0.0 < level < 1.0:
         raise InputError(f"--iso-level = {level:g}; allowed 0 < level < 1 (the kernel sum is 1 in water, 0 in air)")
     out = Path(out) if out is not None else run_dir / "post" / "isosurface"
-    out.mkdir(parents=True, exist_ok=True)
     name = f"{case.name}_surface"
-    pvd = PVDWriter(out, name)
+    pvd = None  # made once the first mesh exists: a request refused there writes nothing
     written = []
     for k, (time, snap) in enumerate(entries):
         model = model_from_snapshot(case, run_dir / snap, backend)
         points, cells = surface_mesh(model, spacing, level)
+        if pvd is None:
+            out.mkdir(parents=True, exist_ok=True)
+            pvd = PVDWriter(out, name)
         path = out / f"{name}_{k:04d}.vtu"
         meshio.write(path, meshio.Mesh(points, [cells]), file_format="vtu")
         pvd.add(float(time), path.name)
         written.append(path)
+    if pvd is None:
+        raise InputError(f"{run_dir} holds no snapshot to mesh")
     return [pvd.path, *written]
