@@ -102,6 +102,7 @@ RUN = ["--out", "{d}/out", "--no-plot", "--no-progress"]
 
 # (id, files {name: text or bytes} written into the test's directory, argv ({d}: that directory),
 #  fragments the error line must hold)
+PISTON_HT = '\n[[motions]]\ntype = "piston"\nname = "p"\nheight = {h}\nperiod = {t}\ndepth = 0.3\n'
 BATHY_NPZ = '\n[[solids]]\nname = "bed"\nshape = { type = "bathymetry", file = "bed.npz", base = -0.2 }\n'
 
 
@@ -324,6 +325,16 @@ CORPUS = [
     ("post-a-probe-csv-that-is-not-utf8", {"run/gauge_g.csv": b"time,level\n\xff\xfe,1\n", "run/resolved.json": "{}"},
      ["post", "{d}/run", "--out", "{d}/plots"], ["gauge_g.csv", "not UTF-8 text"]),
     ("case-file-path-5000-characters", {}, ["check", "{d}/" + "x" * 5000 + ".toml"], ["..."]),
+    # issue 30, classes 6 and 7: waves that cannot exist, paddles that cannot move
+    ("piston-wave-above-miche", {"case.toml": edit(append=PISTON_HT.format(h=0.2, t=1.0))}, None,
+     ["height = 0.2 m", "breaking limit", "Miche 1944", "0.171 m"]),
+    ("piston-period-1e-300", {"case.toml": edit(append=PISTON_HT.format(h=0.05, t=1e-300))}, None,
+     ["period = 1e-300 s", "no finite wavelength"]),
+    ("piston-period-1e300", {"case.toml": edit(append=PISTON_HT.format(h=0.05, t=1e300))}, None,
+     ["period = 1e+300 s", "more than 1000 times the depth"]),
+    ("solitary-above-mccowan", {"case.toml": edit(append='\n[[motions]]\ntype = "solitary"\nname = "s"\n'
+                                                          "height = 0.25\ndepth = 0.3\n")}, None,
+     ["height = 0.25 m", "0.833 times the depth", "H / d = 0.78 (McCowan 1894)"]),
     # issue 30, class 8: a report merged from nothing
     ("validate-report-only-from-nothing", {}, ["validate", "--report-only", "--out", "{d}/out"],
      ["nothing to merge", "no results.json", "shoal validate --out DIR"]),

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Annotated, Literal, Union
 
 import numpy as np
-from pydantic import Field, PrivateAttr
+from pydantic import Field, PrivateAttr, model_validator
 
 from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
 
@@ -105,6 +105,31 @@ class PistonWavemaker(Motion):
     direction: Vec3 = (1.0, 0.0, 0.0)
     ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 2.0
 
+    @model_validator(mode="after")
+    def _a_wave_that_exists(self):
+        """Refuse a period without a finite wavelength, and a height above the breaking limit of Miche (1944),
+        H_max = 0.142 L tanh(k d): no regular wave that high exists in that depth."""
+        try:
+            k = wavenumber(self.period, self.depth)
+        except (OverflowError, ZeroDivisionError):
+            k = math.nan
+        if not (math.isfinite(k) and k > 0 and math.isfinite(2.0 * math.pi / k)):
+            raise ValueError(f"period = {self.period:g} s in {self.depth:g} m of water gives no finite wavelength; "
+                             "give the period of a water wave in seconds")
+        length = 2.0 * math.pi / k
+        h_max = 0.142 * length * math.tanh(k * self.depth)
+        if self.height > h_max:
+            raise ValueError(f"height = {self.height:g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
+                             f"{h_max:.3g} m (Miche 1944) of a {self.period:g} s wave in {self.depth:g} m of water "
+                             f"(L = {length:.3g} m): no regular wave that high exists; give a lower height or a "
+                             "longer period")
+        ratio = piston_height_to_stroke(k, self.depth)
+        stroke = self.height / ratio if ratio > 0 else math.inf
+        if not stroke <= 1000.0 * self.depth:
+            raise ValueError(f"period = {self.period:g} s needs a paddle stroke of {stroke:.3g} m, more than 1000 times "
+                             f"the depth {self.depth:g} m (Biesel's H/S = {ratio:.3g}); give a shorter period")
+        return self
+
     @property
     def wavenumber(self):
         return wavenumber(self.period, self.depth)
@@ -154,6 +179,15 @@ class SolitaryPiston(Motion):
     direction: Vec3 = (1.0, 0.0, 0.0)
     start: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
     _table: tuple | None = PrivateAttr(default=None)
+
+    @model_validator(mode="after")
+    def _a_wave_that_exists(self):
+        """Refuse H / d above 0.78, the highest solitary wave (McCowan 1894)."""
+        if self.height > 0.78 * self.depth:
+            raise ValueError(f"height = {self.height:g} m is {self.height / self.depth:.3g} times the depth "
+                             f"{self.depth:g} m: a solitary wave breaks above H / d = 0.78 (McCowan 1894); give a "
+                             f"height of at most {0.78 * self.depth:.3g} m")
+        return self
 
     @property
     def stroke(self):
