@@ -21,21 +21,35 @@ _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCH
           (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
 
 
-def write_text_atomic(path, text):
-    """Write `text` to `path` through ``<path>.tmp``: flushed, fsynced, then renamed over `path`
-    (``os.replace``, atomic on POSIX and Windows); the temporary file is removed on any failure."""
+def write_bytes_atomic(path, data, chunk=1 << 24):
+    """Write `data` to `path` through ``<path>.tmp``: written in chunks with ``os.write`` (a full disk is an
+    `OSError` ENOSPC), fsynced, then renamed over `path` (``os.replace``, atomic on POSIX and Windows). On
+    any error the temporary file is removed and the error re-raised; `path` is untouched."""
     path = Path(path)
     tmp = path.with_name(path.name + ".tmp")
     try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        try:
+            view = memoryview(data).cast("B")
+            done = 0
+            while done < len(view):
+                done += os.write(fd, view[done:done + chunk])
+            os.fsync(fd)
+        finally:
+            os.close(fd)
         os.replace(tmp, path)
-    finally:
-        if tmp.exists():
+    except BaseException:
+        try:
             tmp.unlink()
+        except OSError:
+            pass
+        raise
     return path
+
+
+def write_text_atomic(path, text):
+    """Write `text` (UTF-8) to `path` atomically (`write_bytes_atomic`)."""
+    return write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def check_target(path):

@@ -57,6 +57,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ShoalError
+from ..output.atomic import write_bytes_atomic
 
 FORMAT = "shoal-checkpoint"
 VERSION = 1
@@ -305,33 +306,6 @@ def hdf5_image(datasets, attrs):
     return buf.getbuffer()
 
 
-def write_bytes_atomic(path, data, chunk=1 << 24):
-    """Write `data` to `path` through ``<path>.tmp``: written in chunks, fsynced, then renamed over `path`.
-    On any error (a full disk: `OSError` ENOSPC) the temporary file is removed and the error re-raised;
-    `path` and every other file are untouched."""
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
-        try:
-            view = memoryview(data).cast("B")
-            done = 0
-            while done < len(view):
-                done += os.write(fd, view[done:done + chunk])
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
-        raise
-    fsync_dir(path.parent)
-    return path
-
-
 def write_checkpoint(path, datasets):
     """Write `datasets` to `path` atomically (``.tmp``, fsync, `os.replace`)
     with their SHA-256 as the root attribute ``sha256``. The file is built in
@@ -340,7 +314,9 @@ def write_checkpoint(path, datasets):
     temporary file is removed and the error re-raised; `path` and every other
     file are untouched."""
     image = hdf5_image(datasets, {"format": FORMAT, "version": VERSION, "sha256": _digest(datasets)})
-    return write_bytes_atomic(path, image)
+    path = write_bytes_atomic(path, image)
+    fsync_dir(Path(path).parent)
+    return path
 
 
 def read_checkpoint(path):
