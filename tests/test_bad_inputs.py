@@ -99,6 +99,9 @@ STL_BAD = "solid rock\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   ve
 TS_DECREASING = "t,x\n0.0,0.0\n1.0,0.1\n0.5,0.2\n"
 
 RUN = ["--out", "{d}/out", "--no-plot", "--no-progress"]
+PADDLE_BOX = '{ type = "box", lo = [0.1, 0.0, 0.0], hi = [0.15, 0.0, 0.4] }'
+MOTION_CV = '\n[[motions]]\ntype = "constant_velocity"\nname = "m"\nvelocity = [{v}]\n'
+MOTION_TS = '\n[[motions]]\ntype = "time_series"\nname = "m"\nfile = "paddle.csv"\n'
 
 # (id, files {name: text or bytes} written into the test's directory, argv ({d}: that directory),
 #  fragments the error line must hold)
@@ -335,6 +338,24 @@ CORPUS = [
     ("solitary-above-mccowan", {"case.toml": edit(append='\n[[motions]]\ntype = "solitary"\nname = "s"\n'
                                                           "height = 0.25\ndepth = 0.3\n")}, None,
      ["height = 0.25 m", "0.833 times the depth", "H / d = 0.78 (McCowan 1894)"]),
+    # issue 30, class 5: walls driven faster than sound (they crossed the fluid in one step, and one
+    # far from its binned cell read outside the neighbour grid: SIGSEGV); refused by check and by run
+    ("wall-at-1e12-m-per-s", {"case.toml": solid(PADDLE_BOX, motion="m").replace(
+        "\n[[solids]]", MOTION_CV.format(v="1e12, 0.0, 0.0") + "\n[[solids]]", 1)}, None,
+     ["motion 'm' reaches 1e+12 m/s", "speed of sound c0 = 34.3 m/s", "below 0.1 c0 = 3.43 m/s"]),
+    ("wall-at-minus-1e12-m-per-s-run", {"case.toml": solid(PADDLE_BOX, motion="m").replace(
+        "\n[[solids]]", MOTION_CV.format(v="0.0, 0.0, -1e12") + "\n[[solids]]", 1)}, ["run", "{d}/case.toml", *RUN],
+     ["motion 'm' reaches 1e+12 m/s", "not below the speed of sound"]),
+    ("wall-driven-millions-of-metres", {"case.toml": solid(PADDLE_BOX, motion="m").replace(
+        "\n[[solids]]", MOTION_TS + "\n[[solids]]", 1), "paddle.csv": "t,x\n0.0,0.0\n0.005,3e6\n0.01,-3e6\n"},
+     None, ["motion 'm' reaches", "e+09 m/s", "check the motion's units"]),
+    ("wall-time-series-in-mm-scaled-1e9-run", {"case.toml": solid(PADDLE_BOX, motion="m").replace(
+        "\n[[solids]]", MOTION_TS + "scale = 1e9\n\n[[solids]]", 1), "paddle.csv": "t,x\n0.0,0.0\n1.0,20.0\n"},
+     ["run", "{d}/case.toml", *RUN], ["motion 'm' reaches", "not below the speed of sound c0 = 34.3 m/s"]),
+    ("wall-3d-at-1e6-m-per-s-sideways", {"case.toml": solid(PADDLE_BOX.replace("0.0, 0.4]", "0.3, 0.4]"), motion="m",
+                                                             base=BASE3D).replace(
+        "\n[[solids]]", MOTION_CV.format(v="0.0, 1e6, 0.0") + "\n[[solids]]", 1)}, None,
+     ["motion 'm' reaches 1e+06 m/s", "options.coef_sound or fluid.u_max"]),
     # issue 30, class 8: a report merged from nothing
     ("validate-report-only-from-nothing", {}, ["validate", "--report-only", "--out", "{d}/out"],
      ["nothing to merge", "no results.json", "shoal validate --out DIR"]),

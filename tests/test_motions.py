@@ -111,3 +111,43 @@ def test_time_series_motion(tmp_path):
         TimeSeriesMotion(name="b", file=str(tmp_path / "bad.csv")).kinematics(0.5)
     with pytest.raises(InputError, match="not found"):
         TimeSeriesMotion(name="b", file=str(tmp_path / "none.csv")).kinematics(0.5)
+
+
+def test_peak_speeds_are_each_motions_largest_speed(tmp_path):
+    """The peak speed `check_motion_speeds` compares with c0: the velocity amplitude pi S / T of a
+    piston (reached once the ramp is over), |v| of a constant velocity once started, c H / (d + H) of a solitary
+    paddle under the crest, and the spline's largest |dX/dt| of a time series (found from its knots
+    and the zeros of its acceleration: no denser sampling finds more)."""
+    from shoal.motions import SolitaryPiston, TimeSeriesMotion
+
+    p = PistonWavemaker(name="p", height=0.05, period=1.2, depth=0.4)
+    assert p.peak_speed(100.0) == pytest.approx(math.pi * p.stroke / p.period, rel=1e-4)
+    assert p.peak_speed(0.5) < 0.5 * math.pi * p.stroke / p.period  # still in the ramp at t = 0.5 s
+    c = ConstantVelocity(name="c", velocity=(3.0, 0.0, 4.0), start=1.0)
+    assert c.peak_speed(2.0) == 5.0 and c.peak_speed(0.5) == 0.0
+    s = SolitaryPiston(name="s", height=0.1, depth=0.4)
+    # the paddle follows the water under the crest: dX/dt = c H / (d + H) at the crest
+    assert s.peak_speed(10.0) == pytest.approx(s.celerity * 0.1 / 0.5, rel=1e-3)
+    t = np.linspace(0, 2, 9)
+    np.savetxt(tmp_path / "paddle.csv", np.column_stack([t, 0.1 * np.sin(np.pi * t)]), delimiter=",")
+    ts = TimeSeriesMotion(name="t", file=str(tmp_path / "paddle.csv"))
+    dense = max(abs(ts.kinematics(u)[1][0]) for u in np.linspace(0, 2, 20001))
+    assert dense > 0.3  # the series moves (its clamped ends make the spline overshoot pi / 10 = 0.314)
+    assert dense <= ts.peak_speed(5.0) <= dense * (1 + 1e-6)
+    assert ts.peak_speed(-1.0) == 0.0  # before the run starts nothing moves
+
+
+def test_a_wall_faster_than_sound_is_refused_and_a_fast_one_warned():
+    """c0 = 20 sqrt(g 0.4) = 39.6 m/s: a wall at c0 or faster is refused, one above 0.1 c0 warned."""
+    from shoal.errors import InputError
+    from shoal.motions import check_motion_speeds
+
+    c0 = 20.0 * math.sqrt(9.81 * 0.4)
+    assert check_motion_speeds([ConstantVelocity(name="w", velocity=(0.3, 0.0, 0.0))], c0, 10.0) == []
+    (w,) = check_motion_speeds([ConstantVelocity(name="w", velocity=(5.0, 0.0, 0.0))], c0, 10.0)
+    assert "'w' reaches 5 m/s" in w and "0.1 c0 = 3.96 m/s" in w
+    for v in (c0, 1e12, -1e12, 1e308):
+        with pytest.raises(InputError, match="not below the speed of sound c0 = 39.6 m/s"):
+            check_motion_speeds([ConstantVelocity(name="w", velocity=(0.0, 0.0, v))], c0, 10.0)
+    # a wall that would start after the run ends never moves
+    assert check_motion_speeds([ConstantVelocity(name="w", velocity=(1e12, 0.0, 0.0), start=20.0)], c0, 10.0) == []

@@ -195,6 +195,34 @@ def test_trimmed_gather_after_particles_moved_since_binning(dim, cps):
 
 
 @pytest.mark.parametrize("dim", [2, 3])
+def test_a_particle_far_from_its_binned_cell_meets_no_neighbours(dim):
+    """Between two sorts a particle can move arbitrarily far from the cell it was binned in (a wall
+    driven at an absurd speed, a blown-up position). Its trimmed rows are then empty: it meets no
+    neighbour and no cell outside the grid is read (this read crashed the process with SIGSEGV);
+    the other particles no longer meet it and keep every other pair."""
+    rng = np.random.default_rng(7 * dim)
+    h, cps = 0.0371, 2
+    lo = np.array([-0.13, 0.02, 0.5])[:dim]
+    hi = lo + np.array([0.41, 0.23, 0.3])[:dim]
+    n = 600 if dim == 2 else 900
+    pos = lo + rng.random((n, dim)) * (hi - lo)
+    grid, spos, ids, n_active = _bin(pos, lo, hi, h, cps)
+    far = {3: 1e7, 50: -1e7, 100: 1e300, 150: -1e300, 200: np.inf, 250: np.nan}
+    moved = spos.copy()
+    for i, x in far.items():
+        moved[i, 0] = x
+    for compact in (False, True):
+        spec, run = _driver(dim, cps, compact)
+        nb = np.full((n, MAX_NB), -1, dtype=np.int64)
+        count = np.zeros(n, dtype=np.int64)
+        run(n, moved, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
+        assert all(count[i] == 0 for i in far)
+        found = {(i, int(nb[i, k])) for i in range(n) for k in range(count[i])}
+        near = {(i, j) for i, j in brute_force_pairs(spos, 2.0 * h, n=n) if i not in far and j not in far}
+        assert found == near
+
+
+@pytest.mark.parametrize("dim", [2, 3])
 def test_compacted_rows_longer_than_the_buffer_are_chunked(dim):
     """A stencil row with more candidates than `stack.ROW_CAP` (a dense cluster) is compacted in
     chunks of the buffer: the pairs still equal brute force, for the compacted gather too."""

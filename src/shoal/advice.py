@@ -5,7 +5,8 @@ rub) is DualSPHysics's, tuned for dam breaks, where it keeps violent flows stabl
 case that makes waves with a paddle and leaves the scheme at those defaults loses wave height along the
 flume (`benchmarks/wave_decay.py` measures how much). The built-in wave flumes use the wave scheme
 `WAVE_OPTIONS` of `shoal.cases.wave_flume` (laminar viscosity, free-slip walls for the viscous term, a
-wider kernel); `wave_scheme_warnings` says so when a case with a wave paddle does not.
+wider kernel); `wave_scheme_warnings` says so when a case with a wave paddle does not. `case_warnings`
+adds the motions fast enough to compress the fluid.
 """
 
 from __future__ import annotations
@@ -15,6 +16,14 @@ WAVE_MOTIONS = ("piston", "solitary")
 
 ALPHA_FOR_WAVES = 0.01
 """Artificial viscosity above which a wave case is warned about (DualSPHysics's wave examples use 0.01)."""
+
+
+def case_warnings(case):
+    """Every warning about `case` (one line each): `wave_scheme_warnings` and the motions faster than
+    `shoal.motions.MACH_LIMIT` c0 (`shoal.motions.check_motion_speeds`)."""
+    from .motions import check_motion_speeds
+
+    return wave_scheme_warnings(case) + check_motion_speeds(case.motions, case.sound_speed, case.end_time)
 
 
 def wave_scheme_warnings(case):

@@ -416,6 +416,11 @@ class Case(BaseModel):
 
     # ------------------------------------------------------------ derived
     @property
+    def sound_speed(self):
+        """c0 = coef_sound sqrt(|g| depth), or coef_sound u_max [m/s] (`shoal.physics.constants.speed_of_sound`)."""
+        return speed_of_sound(self.options.coef_sound, self.fluid.gravity, self.fluid.depth, self.fluid.u_max)
+
+    @property
     def smoothing_length(self):
         """h = coef_h sqrt(dim) dp [m] (`shoal.physics.constants.smoothing_length`)."""
         return smoothing_length(self.options.coef_h, self.dim, self.dp)

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from .motions import check_motion_speeds
 from .memory import case_cell_count, physical_memory, probe_bytes, probe_record_values, probe_samples, solver_bytes
 from .physics.constants import speed_of_sound
 from .physics.spec import MOVING
@@ -36,6 +37,7 @@ def check_case(case):
     check_probes(case, len(p))
     for m in case.motions:
         m.kinematics(0.0)  # reads a time-series file now: a missing or bad one is an error here, not in the run
+    check_motion_speeds(case.motions, case.sound_speed, case.end_time)
     lo, hi = case.resolved_domain()
     o = case.options
     dim = case.dim
@@ -94,7 +96,7 @@ def check_case(case):
                  + f"), {', '.join(when)}; the newest {cfg.keep} kept: up to {cfg.keep * ck_end / 2**20:.3g} MiB")
     if case.motions:
         lines.append("  motions: " + ", ".join(f"{m.name} ({m.type})" for m in case.motions))
-    from .advice import wave_scheme_warnings
+    from .advice import case_warnings
 
-    lines += [f"  warning: {w}" for w in wave_scheme_warnings(case)]
+    lines += [f"  warning: {w}" for w in case_warnings(case)]
     return lines

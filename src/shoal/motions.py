@@ -14,6 +14,9 @@ viscous and boundary terms.
   (1978) method.
 * `TimeSeriesMotion`: displacements read from a file (t, x[, y, z]),
   interpolated with a cubic spline (velocity its derivative).
+
+`check_motion_speeds` refuses a motion faster than the speed of sound c0
+of the weakly compressible model and warns about one above `MACH_LIMIT` c0.
 """
 
 from __future__ import annotations
@@ -28,6 +31,14 @@ from pydantic import Field, PrivateAttr, model_validator
 from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
 
 _G = 9.81
+
+MACH_LIMIT = 0.1
+"""Largest wall speed, as a fraction of c0, that weakly compressible SPH follows without warning: the
+density varies as the square of the Mach number, by about 1 % at M = 0.1 (Monaghan 1994, the reason
+c0 is ten times the largest flow speed)."""
+
+_SAMPLES = 1001
+"""Times at which a motion's speed is sampled to find its peak (besides the exact points of each kind)."""
 
 
 def wavenumber(period, depth, g=_G):
@@ -63,6 +74,15 @@ class Motion(Spec):
         """(displacement [m], velocity [m/s]) at time t [s], 3-vectors."""
         raise NotImplementedError
 
+    def peak_speed(self, t_end):
+        """The largest speed |velocity(t)| [m/s] over 0 <= t <= `t_end` [s], from the times
+        `_speed_times` gives (each kind lists where its peaks can be)."""
+        times = self._speed_times(float(t_end))
+        return max((math.hypot(*self.kinematics(float(t))[1]) for t in times), default=0.0)
+
+    def _speed_times(self, t_end):
+        return np.linspace(0.0, t_end, _SAMPLES)
+
     def acceleration(self, t, eps=1e-5):
         """Acceleration [m/s^2] at time t [s], a 3-vector: the central difference
         (v(t + eps) - v(t - eps)) / (2 eps) of the velocity (the Adami wall
@@ -86,6 +106,10 @@ class ConstantVelocity(Motion):
     def acceleration(self, t, eps=1e-5):
         """Zero: the start is an impulsive step (no finite acceleration to extrapolate a pressure with)."""
         return np.zeros(3)
+
+    def peak_speed(self, t_end):
+        """|velocity| once the motion has started before `t_end`, else 0."""
+        return math.hypot(*self.velocity) if self.start <= t_end else 0.0
 
 
 class PistonWavemaker(Motion):
@@ -151,6 +175,10 @@ class PistonWavemaker(Motion):
         d = np.asarray(self.direction, float)
         return d / np.linalg.norm(d)
 
+    def _speed_times(self, t_end):
+        """The ramp and two periods after it: the motion is periodic from then on."""
+        return np.linspace(0.0, min(t_end, (self.ramp_periods + 2.0) * self.period), _SAMPLES)
+
     def kinematics(self, t):
         w = 2 * math.pi / self.period
         r, dr = self._ramp(t)
@@ -207,6 +235,10 @@ class SolitaryPiston(Motion):
         """Time the paddle moves [s]: until eta at the paddle is back to 0.2 % of H,
         (2 x 3.8 + k S) / (k c) (the paddle has moved S meanwhile)."""
         return (2.0 * 3.8 + self.k * self.stroke) / (self.k * self.celerity)
+
+    def _speed_times(self, t_end):
+        """The stroke, from `start` for `duration`: the paddle rests before and after."""
+        return np.linspace(self.start, max(self.start, min(t_end, self.start + self.duration)), _SAMPLES)
 
     def _eta(self, x, t):
         t0 = 3.8 / (self.k * self.celerity)
@@ -294,6 +326,19 @@ class TimeSeriesMotion(Motion):
             return d1.copy(), np.zeros(3)
         return np.asarray(sp(t), float), np.asarray(sp(t, 1), float)
 
+    def _speed_times(self, t_end):
+        """The spline's knots, the times where a velocity component peaks (roots of the second
+        derivative) and a uniform sampling, within the file's times and [0, t_end]."""
+        sp, t0, t1, _, _ = self._spline or self._load()
+        lo, hi = max(t0, 0.0), min(t1, t_end)
+        if lo >= hi:
+            return np.empty(0)  # the body rests at one end of the series the whole run
+        # each velocity component is a quadratic on each piece: it peaks at a knot or where the acceleration is 0
+        roots = sp.derivative(2).roots(extrapolate=False)
+        roots = [np.atleast_1d(np.asarray(r, float)) for r in np.ravel(roots)] if roots.dtype == object else [roots]
+        t = np.concatenate([sp.x, *roots, np.linspace(lo, hi, _SAMPLES)])
+        return t[(t >= lo) & (t <= hi)]
+
     def acceleration(self, t, eps=1e-5):
         """The spline's second derivative (zero before the first and after the last time)."""
         sp, t0, t1, _, _ = self._spline or self._load()
@@ -304,3 +349,47 @@ class TimeSeriesMotion(Motion):
 
 AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion],
                       Field(discriminator="type")]
+
+
+def check_motion_speeds(motions, c0, t_end):
+    """Refuse a motion faster than sound; warn about one faster than `MACH_LIMIT` c0.
+
+    Weakly compressible SPH lets the density vary by (u / c0)^2 to carry a flow of speed u (Monaghan
+    1994): a wall at u >= c0 outruns every pressure wave the fluid can send, and in one time step
+    (CFL h / c0) it crosses more than the kernel support, through the fluid it should push. Such a
+    motion is certainly a mistake of units or values (a time series in millimetres read as metres, a
+    velocity of 1e12 m/s).
+
+    Parameters
+    ----------
+    motions : list of Motion
+    c0 : float
+        The case's speed of sound [m/s] (`shoal.physics.constants.speed_of_sound`).
+    t_end : float
+        The case's end time [s]: only the motion up to then counts.
+
+    Returns
+    -------
+    list of str
+        One warning per motion whose peak speed is above `MACH_LIMIT` c0.
+
+    Raises
+    ------
+    shoal.errors.InputError
+        For a motion whose peak speed is not below c0 (or not finite).
+    """
+    from .errors import InputError
+
+    warnings = []
+    for m in motions:
+        u = m.peak_speed(t_end)
+        if not u < c0:
+            raise InputError(f"motion {m.name!r} reaches {u:.3g} m/s, not below the speed of sound c0 = {c0:.3g} m/s "
+                             f"of the weakly compressible fluid: no wall can be faster than sound here; keep its "
+                             f"speed below {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} m/s (check the motion's units), or "
+                             "raise c0 with options.coef_sound or fluid.u_max")
+        if u > MACH_LIMIT * c0:
+            warnings.append(f"motion {m.name!r} reaches {u:.3g} m/s, above {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} "
+                            f"m/s: the fluid it pushes compresses by more than 1 % (Mach {u / c0:.2g}); raise "
+                            "options.coef_sound or give fluid.u_max")
+    return warnings

@@ -111,9 +111,9 @@ def _start(case, out_dir, procs, backend, progress, plot, max_steps, overwrite, 
     model = build_model(case, backend)  # bad input fails here, before anything is written
     procs.started = True
     if not resume:
-        from .advice import wave_scheme_warnings
+        from .advice import case_warnings
 
-        for w in wave_scheme_warnings(case):
+        for w in case_warnings(case):
             procs.warn(w)
             point.warnings.append(w)
     lock = procs.hold(out_dir)

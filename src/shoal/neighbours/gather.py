@@ -15,7 +15,11 @@ the filters and the probes, on every backend).
 Each row is trimmed to the cells the support sphere of particle i can reach
 (without periodic axes or a symmetry plane): a row whose y-z rectangle lies
 farther than 2h from r_i is skipped, and the x-range of the others is cut to
-x_i -+ sqrt((2h)^2 - d^2), d the distance from r_i to the rectangle. With
+x_i -+ sqrt((2h)^2 - d^2), d the distance from r_i to the rectangle; a row
+whose cut range is empty is skipped before any cell is read, so a particle
+that has moved far from the cell it was binned in (a wall driven at an absurd
+speed, a blown-up position) meets no neighbours instead of reading outside
+the grid. With
 n = 2 this visits 84 h^3 of cells on average instead of 125 h^3 (the
 support sphere is 33.5 h^3): a third fewer candidates, 471 -> 328 a
 particle in the 3D benchmark. The radius has a margin of `TRIM_MARGIN` of a
@@ -97,6 +101,8 @@ def make_gather(jit, spec, pair, compact=False):
                     e = e2 ** 0.5
                     x0 = max(int(ux - e), ix - n, 0)
                     x1 = min(int(ux + e), ix + n, nx - 1)
+                    if x0 > x1:
+                        continue
                     row = nx * (y + ny * z)
                     for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
                         dx = F(xi - pos[j, 0])
@@ -125,6 +131,8 @@ def make_gather(jit, spec, pair, compact=False):
                 e = e2 ** 0.5
                 x0 = max(int(ux - e), ix - n, 0)
                 x1 = min(int(ux + e), ix + n, nx - 1)
+                if x0 > x1:
+                    continue
                 row = nx * z
                 for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
                     dx = F(xi - pos[j, 0])
@@ -177,6 +185,8 @@ def _make_compact_gather(jit, spec, pair, reach2):
                 e = e2 ** 0.5
                 x0 = max(int(ux - e), ix - n, 0)
                 x1 = min(int(ux + e), ix + n, nx - 1)
+                if x0 > x1:
+                    continue
                 row = nx * (y + ny * z)
                 start = cell_start[row + x0]
                 stop = cell_start[row + x1 + 1]
