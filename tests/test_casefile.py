@@ -9,6 +9,7 @@ see the messages.
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -62,7 +63,7 @@ def test_builtin_case_round_trips_through_toml(name, tmp_path):
     assert path == tmp_path / "c.toml"
     assert not (tmp_path / "c.toml.tmp").exists()  # written atomically
     case2 = load_case(path)
-    _assert_same_case(case, case2)
+    _assert_same_case(case.model_copy(update={"parameters": {}}), case2)  # parameters: a comment (issue 30)
 
 
 @pytest.mark.parametrize("name,kwargs", [
@@ -455,7 +456,7 @@ def test_cli_new_writes_a_loadable_file_and_does_not_overwrite(tmp_path, capsys)
     assert str(path) in out and err == ""
     case = load_case(path)
     assert case.name == get_case("dam-break-2d").name
-    assert case.resolved() == get_case("dam-break-2d").resolved()
+    assert case.resolved() == get_case("dam-break-2d").model_copy(update={"parameters": {}}).resolved()
     before = path.read_bytes()
     assert _cli(["new", "dam-break-2d", "-o", str(path), "--dp", "0.01"]) == 2
     line = _one_error_line(capsys.readouterr().err)
@@ -475,8 +476,27 @@ def test_cli_new_wave_flume_2d(tmp_path, capsys):
 def test_none_in_parameters_is_writable(tmp_path):
     case = load_case(_write(tmp_path, BASE))
     case = case.model_copy(update={"parameters": {"dp": 0.02, "width": None}})
-    write_case(case, tmp_path / "out.toml")
+    write_case(case, tmp_path / "out.toml", commented=False)  # a run's resolved case keeps the record
     assert load_case(tmp_path / "out.toml").resolved()["parameters"] == {"dp": 0.02}
+
+
+def test_a_commented_case_file_records_the_parameters_only_as_a_comment(tmp_path):
+    """`shoal new` writes the built-in case's parameters as comment lines, not as a table a user would
+    edit to no effect (issue 30, class 7); the case it writes loads to the same case otherwise."""
+    path = tmp_path / "wf.toml"
+    assert _cli(["new", "wave-flume-2d", "-o", str(path)]) == 0
+    text = path.read_text()
+    assert "[parameters]" not in text and "parameters =" not in text
+    record = [line for line in text.splitlines() if line.startswith("#   ")]
+    assert "depth = 0.4" in " ".join(record) and "gauges_x = [1.0, 2.0, 3.0]" in " ".join(record)
+    case = get_case("wave-flume-2d")
+    loaded = load_case(path)
+    assert loaded.parameters == {} and loaded.resolved() == case.model_copy(update={"parameters": {}}).resolved()
+    # odd keys and strings stay inside their comment lines
+    odd = case.model_copy(update={"parameters": {"a\nb": "x\ny", "n": float("nan"), "ok": True}})
+    lines = dumps_case(odd).splitlines()
+    assert any(line == '#   "a\\nb" = "x\\ny", n = nan, ok = true' for line in lines), lines
+    assert tomllib.loads(dumps_case(odd)).get("parameters") is None
 
 
 def test_cli_new_unknown_case(tmp_path, capsys):

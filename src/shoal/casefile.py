@@ -315,6 +315,9 @@ def dumps_case(case, commented=True, file_name="case.toml"):
     order = ["name", "description", "dim", "dp", "end_time", "max_escaped_fraction", "lattice_origin", "parameters",
              "domain", "fluid", "options", "output", "checkpoint", "motions", "solids", "fluids"]
     data = {k: data[k] for k in order if k in data} | {k: v for k, v in data.items() if k not in order}
+    # a commented file is one a person edits: there the builder's parameters are a comment, since editing
+    # them would change nothing (the tables are the case); a run's resolved file keeps them as a table
+    record = data.pop("parameters", None) if commented else None
     if not data.get("parameters"):
         data.pop("parameters", None)
     text = tomli_w.dumps(data, multiline_strings=False)
@@ -337,7 +340,30 @@ def dumps_case(case, commented=True, file_name="case.toml"):
         if doc and "#" not in line and len(line) < 100:
             line = f"{line}  # {doc}"
         lines.append(line)
-    return HEADER.format(file=file_name) + "\n" + "\n".join(lines) + "\n"
+    return HEADER.format(file=file_name) + _parameters_record(record) + "\n" + "\n".join(lines) + "\n"
+
+
+def _parameters_record(parameters):
+    """Comment lines recording the built-in case's parameters (empty without any)."""
+    import json
+    import textwrap
+
+    if not parameters:
+        return ""
+
+    def show(v):
+        if isinstance(v, bool):
+            return str(v).lower()
+        if isinstance(v, (list, tuple)):
+            return "[" + ", ".join(show(x) for x in v) + "]"
+        return json.dumps(v) if isinstance(v, str) else repr(v)
+
+    items = ", ".join(f"{k if k.isidentifier() else json.dumps(k)} = {show(v)}"
+                      for k, v in parameters.items() if v is not None)
+    body = textwrap.wrap(items, 96, break_long_words=True, break_on_hyphens=False)
+    return ("# Built from these parameters of the built-in case (a record, not read back: the tables below\n"
+            "# are the case; for other parameters, run shoal new again with --param KEY=VALUE):\n"
+            + "".join(f"#   {line}\n" for line in body))
 
 
 def write_case(case, path, commented=True):
