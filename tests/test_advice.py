@@ -36,3 +36,23 @@ def test_check_and_run_print_the_warning(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("shoal: warning: the case makes waves") == 1
     assert "the case makes waves" in (tmp_path / "run" / "run.log").read_text()
+
+
+def test_fast_fluid_and_walls_are_warned_about():
+    """Above 0.1 c0 the fluid compresses by more than 1 % (Monaghan 1994): a fluid region starting
+    that fast, or a wall moving that fast, gets one warning each; no built-in case gets one."""
+    from shoal.advice import case_warnings
+    from shoal.cases import CASES, get_case
+    from shoal.motions import ConstantVelocity
+
+    case = dam_break_2d()
+    c0 = case.sound_speed
+    fast = case.model_copy(update={"fluids": [f.model_copy(update={"velocity": (0.2 * c0, 0.0, 0.0)})
+                                              for f in case.fluids]})
+    (w,) = case_warnings(fast)
+    assert w.startswith("fluids[0] starts at") and "above 0.1 c0" in w
+    wall = case.model_copy(update={"motions": [ConstantVelocity(name="gate", velocity=(0.0, 0.0, 0.5 * c0))]})
+    (w,) = case_warnings(wall)
+    assert w.startswith("motion 'gate' reaches") and "Mach 0.5" in w
+    for name in CASES:
+        assert case_warnings(get_case(name)) == wave_scheme_warnings(get_case(name)), name

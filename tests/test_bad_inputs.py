@@ -356,6 +356,20 @@ CORPUS = [
                                                              base=BASE3D).replace(
         "\n[[solids]]", MOTION_CV.format(v="0.0, 1e6, 0.0") + "\n[[solids]]", 1)}, None,
      ["motion 'm' reaches 1e+06 m/s", "options.coef_sound or fluid.u_max"]),
+    # issue 30, class 7: numbers the float32 kernels cannot hold (the run stopped at step 0 as "unstable")
+    ("rho0-1e300", {"case.toml": edit(("depth = 0.3", "depth = 0.3\nrho0 = 1e300"))}, None,
+     ["fluid.rho0 = 1e+300 kg/m^3", "rho0^2 = inf", "outside what float32 holds", "water is rho0 = 1000"]),
+    ("rho0-1e-300-run", {"case.toml": edit(("depth = 0.3", "depth = 0.3\nrho0 = 1e-300"))}, ["run", "{d}/case.toml",
+                                                                                           *RUN],
+     ["fluid.rho0 = 1e-300 kg/m^3", "rho0^2 = 0"]),
+    ("rho0-1e20-fits-only-float64", {"case.toml": edit(("depth = 0.3", "depth = 0.3\nrho0 = 1e20"))}, None,
+     ["rho0^2 = 1e+40", 'use options.precision = "float64"']),
+    ("u-max-1e300", {"case.toml": edit(("depth = 0.3", "depth = 0.3\nu_max = 1e300"))}, None,
+     ["c0 = 2e+301 m/s", "c0^2 = inf"]),
+    ("depth-1e300", {"case.toml": edit(("depth = 0.3\n", "depth = 1e300\n"))}, None, ["c0^2 = 3.92e+303"]),
+    ("fluid-velocity-1e300-run", {"case.toml": edit(("hi = [0.6, 0.0, 0.3] }", "hi = [0.6, 0.0, 0.3] }\n"
+                                                                               "velocity = [1e300, 0.0, 0.0]"))},
+     ["run", "{d}/case.toml", *RUN], ["fluids[0].velocity", "not below the speed of sound c0 = 34.3 m/s"]),
     # issue 30, class 8: a report merged from nothing
     ("validate-report-only-from-nothing", {}, ["validate", "--report-only", "--out", "{d}/out"],
      ["nothing to merge", "no results.json", "shoal validate --out DIR"]),

@@ -19,11 +19,17 @@ ALPHA_FOR_WAVES = 0.01
 
 
 def case_warnings(case):
-    """Every warning about `case` (one line each): `wave_scheme_warnings` and the motions faster than
-    `shoal.motions.MACH_LIMIT` c0 (`shoal.motions.check_motion_speeds`)."""
-    from .motions import check_motion_speeds
+    """Every warning about `case` (one line each): `wave_scheme_warnings`, and the motions and fluid
+    regions faster than `shoal.motions.MACH_LIMIT` c0 (`shoal.motions.check_motion_speeds`)."""
+    import math
 
-    return wave_scheme_warnings(case) + check_motion_speeds(case.motions, case.sound_speed, case.end_time)
+    from .motions import MACH_LIMIT, check_motion_speeds
+
+    c0 = case.sound_speed
+    fast = [f"fluids[{i}] starts at {math.hypot(*f.velocity):.3g} m/s, above {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} "
+            f"m/s: it compresses by more than 1 %; raise options.coef_sound or give fluid.u_max"
+            for i, f in enumerate(case.fluids) if math.hypot(*f.velocity) > MACH_LIMIT * c0]
+    return wave_scheme_warnings(case) + check_motion_speeds(case.motions, c0, case.end_time) + fast
 
 
 def wave_scheme_warnings(case):

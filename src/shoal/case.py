@@ -357,6 +357,7 @@ class Case(BaseModel):
             raise ValueError(f"the speed of sound c0 = coef_sound x {'u_max' if self.fluid.u_max else 'sqrt(|g| depth)'}"
                              f" = {c0:g} m/s must be a positive finite number: check fluid.gravity, fluid.depth, "
                              "fluid.u_max and options.coef_sound")
+        self._check_scales(c0)
         self._check_times(c0)
         if (self.planes or any(s.boundary == "repulsive" for s in self.solids)) and \
                 (self.fluid.depth is None or g == 0.0):
@@ -413,6 +414,37 @@ class Case(BaseModel):
                 raise ValueError(f"{name} = {value:.3g} s is below a hundredth of the stable time step (about "
                                  f"{dt:.3g} s: CFL h / c0 with h = {h:.3g} m, c0 = {c0:.3g} m/s): the run would "
                                  f"take {self.end_time / value:.3g} steps; give at least {floor:.3g} s")
+
+    def _check_scales(self, c0):
+        """Refuse numbers the kernels cannot hold in the working precision, and fluid faster than sound.
+
+        The kernels form rho^2 (the pressure term p / rho^2), c0^2 and the Tait coefficient
+        B = rho0 c0^2 / 7 in the working precision (float32: 1.2e-38 to 3.4e38). Each must lie a
+        factor 10^6 inside that range (room for the density's variation, powers of rho / rho0 and
+        the sums over neighbours); outside it the first step is all inf or NaN, which reads as an
+        instability. A fluid region moving at c0 or faster cannot be weakly compressible (as for
+        the walls, `shoal.motions.check_motion_speeds`)."""
+        f = np.finfo(np.float32 if self.options.precision == "float32" else np.float64)
+        lo, hi = float(f.tiny) * 1e6, float(f.max) * 1e-6
+        rho0 = self.fluid.rho0
+        scales = [("fluid.rho0", f"= {rho0:.3g} kg/m^3", "rho0^2", rho0 * rho0),
+                  ("the speed of sound", f"c0 = {c0:.3g} m/s", "c0^2", c0 * c0),
+                  ("the pressure scale", f"B = rho0 c0^2 / 7 = {rho0 * c0 * c0 / 7.0:.3g} Pa", "B",
+                   rho0 * c0 * c0 / 7.0)]
+        for name, shown, what, value in scales:
+            if not lo <= value <= hi:
+                fits64 = self.options.precision == "float32" and 1e-290 <= value <= 1e290
+                raise ValueError(f"{name} {shown} gives {what} = {value:.3g}, outside what {self.options.precision} "
+                                 f"holds with room for the kernels' sums ({lo:.1e} to {hi:.1e}): "
+                                 + ('use options.precision = "float64", or ' if fits64 else "")
+                                 + "check the units (SI: water is rho0 = 1000 kg/m^3, c0 = coef_sound sqrt(|g| "
+                                 "depth) or coef_sound u_max)")
+        for i, f_ in enumerate(self.fluids):
+            u = math.hypot(*f_.velocity)
+            if not u < c0:
+                raise ValueError(f"fluids[{i}].velocity = {list(f_.velocity)} m/s ({u:.3g} m/s) is not below the "
+                                 f"speed of sound c0 = {c0:.3g} m/s of the weakly compressible fluid; keep it below "
+                                 "0.1 c0 (check the units), or raise c0 with options.coef_sound or fluid.u_max")
 
     # ------------------------------------------------------------ derived
     @property
