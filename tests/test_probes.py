@@ -169,3 +169,36 @@ def test_probes_offline_over_a_damaged_collection_is_one_input_error(tmp_path):
         run_probes_offline(tmp_path / "run", [gauge])
     assert "\n" not in str(info.value)
     assert sorted(p.name for p in (tmp_path / "run").iterdir()) == before
+
+
+def test_only_probes_buried_in_fixed_walls_are_refused():
+    """A gauge whose whole column lies in a fixed block, or a probe point inside it, is refused; one
+    on the block's face, one whose column rises above the block, and one in a moving block are not
+    (the moving block can leave, the others see water)."""
+    from shoal.case import Case
+    from shoal.errors import InputError
+    from shoal.motions import ConstantVelocity
+    from shoal.probes import PointProbes, WaveGauge
+    from shoal.probes.placement import check_buried_probes
+
+    base = Case.model_validate({
+        "name": "t", "dim": 2, "dp": 0.05, "end_time": 0.01, "fluid": {"depth": 0.3, "surface_level": 0.3},
+        "solids": [{"name": "tank", "shape": {"type": "tank", "lo": [0, 0, 0], "hi": [1.2, 0, 0.6]}},
+                   {"name": "block", "shape": {"type": "box", "lo": [0.6, 0, 0], "hi": [0.9, 0, 0.5]}}],
+        "fluids": [{"shape": {"type": "box", "lo": [0, 0, 0], "hi": [0.6, 0, 0.3]}}]})
+
+    def with_probes(*probes, case=base):
+        return case.model_copy(update={"probes": list(probes)})
+
+    with pytest.raises(InputError, match=r"probes\[0\] \(gauge 'g'\).*inside solids\[1\] \(block\)"):
+        check_buried_probes(with_probes(WaveGauge(name="g", x=0.75, z0=0.05, z1=0.4, interval=0.01)))
+    with pytest.raises(InputError, match=r"points\[1\] = \[0.7, 0.0, 0.2\] lies inside solids\[1\]"):
+        check_buried_probes(with_probes(PointProbes(name="p", points=[(0.3, 0, 0.1), (0.7, 0, 0.2)], interval=0.01)))
+    for ok in (WaveGauge(name="g", x=0.6, z0=0.05, z1=0.4, interval=0.01),  # on the face
+               WaveGauge(name="g", x=0.75, z0=0.05, z1=0.55, interval=0.01),  # over the top
+               PointProbes(name="p", points=[(0.9, 0, 0.2), (0.75, 0, 0.5)], interval=0.01)):
+        check_buried_probes(with_probes(ok))
+    moving = base.model_copy(update={
+        "motions": [ConstantVelocity(name="m", velocity=(0.0, 0.0, 0.1))],
+        "solids": [base.solids[0], base.solids[1].model_copy(update={"motion": "m"})]})
+    check_buried_probes(with_probes(WaveGauge(name="g", x=0.75, z0=0.05, z1=0.4, interval=0.01), case=moving))

@@ -8,7 +8,7 @@ from .errors import InputError
 from .model import Model
 from .motions import check_motion_speeds
 from .physics.spec import FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING
-from .probes.placement import check_probes
+from .probes.placement import check_buried_probes, check_probes
 
 
 def build_model(case, backend="cpu"):
@@ -16,6 +16,7 @@ def build_model(case, backend="cpu"):
     case.revalidate()  # a copy (model_copy) skipped the checks across its fields
     p = case.particles()
     check_probes(case, len(p))  # a probe outside the domain or a tracked id that is no particle
+    check_buried_probes(case)  # a gauge or probe point inside a fixed wall
     check_motion_speeds(case.motions, case.sound_speed, case.end_time)  # a wall faster than sound
     sym = None
     if case.symmetry_planes:

@@ -16,7 +16,7 @@ from .motions import check_motion_speeds
 from .memory import case_cell_count, physical_memory, probe_bytes, probe_record_values, probe_samples, solver_bytes
 from .physics.constants import speed_of_sound
 from .physics.spec import MOVING
-from .probes.placement import check_probes
+from .probes.placement import check_buried_probes, check_probes
 
 VTU_BYTES_PER_PARTICLE = 84
 """Bytes per particle of one VTU snapshot (binary appended data: positions
@@ -35,6 +35,7 @@ def check_case(case):
     case.revalidate()
     p = case.particles()
     check_probes(case, len(p))
+    check_buried_probes(case)
     for m in case.motions:
         m.kinematics(0.0)  # reads a time-series file now: a missing or bad one is an error here, not in the run
     check_motion_speeds(case.motions, case.sound_speed, case.end_time)

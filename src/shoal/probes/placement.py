@@ -69,3 +69,64 @@ def check_probes(case, n_particles):
                 raise InputError(f"{where}: x0 .. x1 = {pr.x0:g} .. {pr.x1:g} m"
                                  + (f" at y = {pr.y:g} m" if case.dim == 3 else "")
                                  + f" misses the domain {dom}")
+
+
+
+def check_buried_probes(case):
+    """`InputError` for a wave gauge, max-z gauge or probe point buried in fixed solids.
+
+    A point is buried when it lies inside the shapes of the solids without a motion, and so do the
+    points half a particle spacing from it along each axis (a point on a wall's face is not
+    buried). Fluid is generated only where no solid is, and fixed walls neither move nor let it
+    through, so a buried point never has water at it: a probe there records NaN or nonsense for
+    the whole run. A gauge is refused when every point of its column within the domain is buried.
+
+    Parameters
+    ----------
+    case : shoal.Case
+    """
+    from ..geometry.generate import support_layers
+
+    columns = []  # (description, (M, 3) points) of each probe that must not be buried whole
+    lo, hi = case.resolved_domain()
+    dp = case.dp
+    for i, pr in enumerate(case.probes):
+        where = f"probes[{i}] ({pr.type} {pr.name!r})"
+        if pr.type in ("gauge", "maxz"):
+            z0, z1 = (pr.z0, pr.z1) if pr.type == "gauge" else (lo[2], hi[2])
+            z0, z1 = max(z0, lo[2]), min(z1, hi[2])
+            if z1 < z0:
+                continue
+            zs = np.linspace(z0, z1, max(2, int(np.ceil((z1 - z0) / (0.5 * dp))) + 1))
+            pts = np.column_stack([np.full(len(zs), pr.x), np.full(len(zs), pr.y if case.dim == 3 else 0.0), zs])
+            columns.append((f"{where}: its whole column x = {pr.x:g} m"
+                            + (f", y = {pr.y:g} m" if case.dim == 3 else "") + f", z = {z0:.4g} .. {z1:.4g} m", pts))
+        elif pr.type == "points":
+            columns += [(f"{where}: points[{k}] = {list(pt)}", np.asarray([pt], float)) for k, pt in enumerate(pr.points)]
+    fixed = [(k, s) for k, s in enumerate(case.solids) if s.motion is None]
+    if not columns or not fixed:
+        return
+    axes = [0, 2] if case.dim == 2 else [0, 1, 2]
+    offsets = [np.zeros(3)]
+    for a in axes:
+        for sign in (-0.5, 0.5):
+            o = np.zeros(3)
+            o[a] = sign * dp
+            offsets.append(o)
+    offsets = np.array(offsets)
+    layers = support_layers(2.0 * case.smoothing_length / dp)
+    for what, pts in columns:
+        probe = (pts[:, None, :] + offsets[None, :, :]).reshape(-1, 3)
+        covered = np.zeros(len(probe), bool)
+        owner = -1
+        for k, s in fixed:
+            inside = s.shape.contains(probe, case.dim, (s.layers or layers) * dp)
+            if owner < 0 and inside.reshape(len(pts), -1)[:, 0].any():
+                owner = k
+            covered |= inside
+        buried = covered.reshape(len(pts), -1).all(axis=1)
+        if buried.all():
+            s = case.solids[owner]
+            raise InputError(f"{what} lies inside solids[{owner}] ({s.name or s.shape.type}) and no water can "
+                             "reach it there: it would record NaN or nonsense for the whole run; move it into the "
+                             "water")
