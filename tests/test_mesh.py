@@ -253,3 +253,40 @@ def test_bad_shapes():
         winding_number(np.zeros((0, 3, 3)), np.zeros((1, 3)))
     with pytest.raises(InputError):
         winding_number(unit_cube_triangles(), np.zeros((4, 2)))
+
+
+# ------------------------------------------------------- meshes that bound no solid (issue 30, class 7)
+
+def test_an_open_mesh_is_refused(tmp_path):
+    """A cube without its top face (a box open at the top), a single sheet, or a cube missing one
+    triangle: holes with rims of more than 1 % of the edge length leave the inside undefined."""
+    cube = unit_cube_triangles()
+    cases = {"no-top": (cube[:10], "4 edges belong to one triangle only"),
+             "sheet": (cube[:2], "4 edges"),
+             "one-missing": (cube[1:], "3 edges")}
+    for name, (tri, fragment) in cases.items():
+        path = save_stl(tri, tmp_path / f"{name}.stl")
+        with pytest.raises(InputError, match=f"{name}\\.stl' is open: {fragment}"):
+            load_stl(path)
+
+
+def test_a_large_closed_mesh_with_a_tiny_hole_and_copied_vertices_is_kept(tmp_path, sphere):
+    """A watertight sphere (its vertices stored once per triangle, in float32) loads; one missing
+    triangle of 1,280 (0.08 % of the edge length) is the small hole the winding number copes with."""
+    for tri in (sphere, sphere[1:]):
+        path = save_stl(tri, tmp_path / "ball.stl")
+        assert load_stl(path).shape == (len(tri), 3, 3)
+
+
+def test_a_flat_mesh_is_refused(tmp_path):
+    """A closed but flat mesh (a square and its reverse side: every edge on two triangles) encloses
+    no volume; so does a mesh of degenerate triangles (all vertices on a line)."""
+    sq = unit_cube_triangles()[8:10]  # the face z = 0
+    flat = np.concatenate([sq, sq[:, ::-1]])
+    with pytest.raises(InputError, match=r"flat\.stl' encloses no volume"):
+        load_stl(save_stl(flat, tmp_path / "flat.stl"))
+    line = np.array([[[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[2, 0, 0], [1, 0, 0], [0, 0, 0]]], float)
+    with pytest.raises(InputError, match=r"line\.stl' encloses no volume"):
+        load_stl(save_stl(line, tmp_path / "line.stl"))
+    with pytest.raises(InputError, match=r"dot\.stl': every vertex is at one point"):
+        load_stl(save_stl(np.ones((2, 3, 3)), tmp_path / "dot.stl"))

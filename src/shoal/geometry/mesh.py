@@ -67,8 +67,9 @@ def load_stl(path, scale=1.0, offset=(0.0, 0.0, 0.0)):
     ------
     shoal.errors.InputError
         With a one-line message naming the file: file missing, not a file,
-        not readable as STL, no triangles, non-finite vertices, `scale` not
-        a positive finite number, `offset` not 3 finite numbers.
+        not readable as STL, no triangles, non-finite vertices, an open
+        or flat mesh (`_check_closed`), `scale` not a positive finite
+        number, `offset` not 3 finite numbers.
     """
     name = os.fspath(path)
     where = f"STL file '{name}'"
@@ -130,7 +131,41 @@ def load_stl(path, scale=1.0, offset=(0.0, 0.0, 0.0)):
         )
     tri *= s
     tri += off
+    _check_closed(tri, where)
     return tri
+
+
+OPEN_RIM_FRACTION = 0.01
+"""Largest share of a mesh's edge length that may lie on holes (edges of one triangle only): the
+winding number classifies points correctly away from small holes (Jacobson et al. 2013), not
+inside an open surface."""
+
+
+def _check_closed(tri, where):
+    """`InputError` for a mesh that bounds no solid: one with holes whose rims make more than
+    `OPEN_RIM_FRACTION` of its edge length (a sheet, a surface with missing faces), or one that
+    encloses no volume (flat, or every triangle degenerate). Vertices are matched within 1e-9 of
+    the mesh's size, which joins the copies of a vertex that STL stores once per triangle."""
+    size = float(np.ptp(tri.reshape(-1, 3), axis=0).max())
+    if not size > 0.0:
+        raise InputError(f"{where}: every vertex is at one point; the mesh bounds no solid")
+    keys = np.round(tri.reshape(-1, 3) / (1e-9 * size)).astype(np.int64)
+    _, vid = np.unique(keys, axis=0, return_inverse=True)
+    vid = vid.reshape(-1, 3)
+    edges = np.sort(np.concatenate([vid[:, [0, 1]], vid[:, [1, 2]], vid[:, [2, 0]]]), axis=1)
+    lengths = np.linalg.norm(np.concatenate([tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 1], tri[:, 0] - tri[:, 2]]),
+                             axis=1)
+    _, inverse, counts = np.unique(edges, axis=0, return_inverse=True, return_counts=True)
+    rim = counts[inverse.ravel()] == 1
+    if lengths[rim].sum() > OPEN_RIM_FRACTION * lengths.sum():
+        raise InputError(f"{where} is open: {int(rim.sum()):,} edges belong to one triangle only (holes with rims "
+                         f"of {lengths[rim].sum():.3g} m in all, {100 * lengths[rim].sum() / lengths.sum():.0f} % "
+                         "of its edges), so its inside is undefined; close the surface (fill its holes) and "
+                         "export it again")
+    volume = abs(float(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum())) / 6.0
+    if not volume > 1e-9 * size**3:
+        raise InputError(f"{where} encloses no volume ({volume:.3g} m^3 inside a mesh {size:.3g} m across): it is flat "
+                         "or its triangles are degenerate; a solid or fluid needs a closed surface around a volume")
 
 
 def _as_triangles(triangles):
