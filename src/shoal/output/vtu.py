@@ -12,6 +12,8 @@ back, concatenated in piece order.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import shutil
 import sys
@@ -77,6 +79,25 @@ def _fsync(path):
         os.fsync(fd)
     finally:
         os.close(fd)
+
+
+def _damaged(path, said):
+    """The `InputError` for a snapshot that cannot be parsed (truncated or damaged)."""
+    from ..errors import InputError
+
+    detail = " ".join(str(said).split())[:160]
+    if "Couldn't read file" in detail:  # meshio's own summary names nothing more than this message does
+        detail = ""
+    return InputError(f"{os.fspath(path)} is not a readable VTU snapshot (truncated or damaged"
+                      + (f": {detail}" if detail else "") + "); move it aside, or write the run's snapshots again")
+
+
+def _read_empty_or_none(path):
+    """`_read_empty`, or None for a file that is not even well-formed XML."""
+    try:
+        return _read_empty(path)
+    except ET.ParseError:
+        return None
 
 
 def _read_empty(path):
@@ -183,14 +204,19 @@ def read_vtu(path):
     """
     if os.fspath(path).endswith(".pvtu"):
         return read_pvtu(path)
+    said = io.StringIO()
     try:
-        mesh = meshio.read(Path(path), file_format="vtu")
+        # meshio prints what it could not parse and calls sys.exit(1) on a damaged file
+        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+            mesh = meshio.read(Path(path), file_format="vtu")
     except (IndexError, ValueError):
         # meshio cannot read a mesh without points; handle that case here.
-        empty = _read_empty(path)
+        empty = _read_empty_or_none(path)
         if empty is None:
-            raise
+            raise _damaged(path, said.getvalue()) from None
         return empty
+    except (SystemExit, Exception) as exc:  # meshio raises assorted types (or exits) on a damaged file
+        raise _damaged(path, said.getvalue() or f"{type(exc).__name__}: {exc}") from None
     point_data = {name: np.asarray(v) for name, v in mesh.point_data.items()}
     return np.asarray(mesh.points), point_data
 
