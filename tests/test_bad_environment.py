@@ -59,3 +59,18 @@ def test_a_reader_that_stops_reading_ends_the_command_quietly():
     err = p.stderr.read().decode()
     rc = p.wait(timeout=300)
     assert rc == 141 and err == "", (rc, err)
+
+
+def test_ctrl_c_while_the_command_starts_is_one_line():
+    """Ctrl-C while ``shoal`` is still importing NumPy, SciPy and Numba (it takes a second or more; the
+    signal comes 0.3 s after the start): one line, status 130, no traceback, nothing written."""
+    import signal
+    import time
+
+    p = subprocess.Popen([sys.executable, "-m", "shoal", "cases"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         env=_env())
+    time.sleep(0.3)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=300)
+    assert p.returncode == 130, (p.returncode, out, err)
+    assert err.decode() == "shoal: interrupted while starting; nothing was written\n" and out == b""

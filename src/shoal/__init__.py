@@ -24,7 +24,15 @@ _os.environ.setdefault("GOMP_SPINCOUNT", "3000")
 
 import sys as _sys  # noqa: E402
 
+from .environment import interrupted_while_starting as _interrupted_while_starting  # noqa: E402
 from .environment import numba_environment_error as _numba_environment_error  # noqa: E402
+from .environment import on_command_line as _on_command_line  # noqa: E402
+
+# `shoal.cli.main` puts Python's own SIGINT handler back before it does anything
+if _on_command_line(_sys.argv):
+    import signal as _signal
+
+    _signal.signal(_signal.SIGINT, _interrupted_while_starting)
 
 # Numba reads its variables on import (below): a setting it cannot start with is one line, not a traceback
 # from inside Numba -- on the command line (`shoal`, `python -m shoal`) an exit with status 2, in Python an
@@ -33,7 +41,7 @@ _bad = _numba_environment_error(_os.environ)
 if _bad:
     from .errors import InputError as _InputError
 
-    if _os.path.basename(_sys.argv[0] if _sys.argv else "") in ("shoal", "-m"):
+    if _on_command_line(_sys.argv):
         _sys.stderr.write(f"shoal: error: {_bad}\n")
         raise SystemExit(2)
     raise _InputError(_bad)

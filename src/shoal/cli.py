@@ -475,7 +475,13 @@ def _info_mpi_gpus():
 
 
 def main(argv=None):
+    import signal
+
+    from .environment import interrupted_while_starting
     from .parallel import quiet_other_ranks
+
+    if signal.getsignal(signal.SIGINT) is interrupted_while_starting:  # loaded: Ctrl-C is KeyboardInterrupt again
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
     quiet_other_ranks()  # under mpiexec: messages from rank 0 only
     parser = build_parser()

@@ -3,9 +3,12 @@
 Numba reads its variables when it is first imported (which ``import shoal`` does): a thread count of 0
 ends that import in a traceback, an unreadable one is dropped with a warning, and ``NUMBA_DISABLE_JIT``
 leaves shoal's kernels uncompiled. `numba_environment_error` names the first such setting in one line.
+`interrupted_while_starting` answers Ctrl-C while the command's modules load.
 """
 
 from __future__ import annotations
+
+import os
 
 NUMBA_LAYERS = ("default", "safe", "forksafe", "threadsafe", "tbb", "omp", "workqueue")
 """The values ``NUMBA_THREADING_LAYER`` may take."""
@@ -31,3 +34,16 @@ def numba_environment_error(env):
     if env.get("NUMBA_DISABLE_JIT", "0").strip() not in ("", "0"):
         return f"NUMBA_DISABLE_JIT = {env['NUMBA_DISABLE_JIT']!r}: shoal's kernels run only compiled; unset it"
     return None
+
+
+def on_command_line(argv):
+    """Whether this process is the ``shoal`` command: ``shoal ...``, or ``python -m shoal ...`` while
+    its package loads (Python sets ``argv[0]`` to ``"-m"`` until the module is found)."""
+    return os.path.basename(argv[0] if argv else "") in ("shoal", "-m")
+
+
+def interrupted_while_starting(signum, frame):
+    """SIGINT handler of the command while its modules load (NumPy, SciPy, Numba: a second or more):
+    one line instead of a traceback from whichever import Ctrl-C hit, exit status 128 + signum."""
+    os.write(2, b"shoal: interrupted while starting; nothing was written\n")
+    os._exit(128 + signum)
