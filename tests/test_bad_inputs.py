@@ -96,9 +96,53 @@ def probe(table):
 
 PISTON = '\n[[motions]]\ntype = "piston"\nname = "paddle"\nheight = 0.02\nperiod = 1.0\ndepth = 0.3\n'
 STL_BAD = "solid rock\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n"  # cut off mid-facet
+
+
+def _ascii_stl(faces):
+    """ASCII STL text of the triangles `faces` (vertex triples)."""
+    body = "".join("facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {x} {y} {z}\n" for x, y, z in f)
+                   + "endloop\nendfacet\n" for f in faces)
+    return f"solid rock\n{body}endsolid rock\n"
+
+
+_CUBE = [((0, 0, 0), (0, 0.1, 0), (0.1, 0.1, 0)), ((0, 0, 0), (0.1, 0.1, 0), (0.1, 0, 0)),  # bottom
+         ((0, 0, 0), (0.1, 0, 0), (0.1, 0, 0.1)), ((0, 0, 0), (0.1, 0, 0.1), (0, 0, 0.1)),
+         ((0.1, 0, 0), (0.1, 0.1, 0), (0.1, 0.1, 0.1)), ((0.1, 0, 0), (0.1, 0.1, 0.1), (0.1, 0, 0.1)),
+         ((0.1, 0.1, 0), (0, 0.1, 0), (0, 0.1, 0.1)), ((0.1, 0.1, 0), (0, 0.1, 0.1), (0.1, 0.1, 0.1)),
+         ((0, 0.1, 0), (0, 0, 0), (0, 0, 0.1)), ((0, 0.1, 0), (0, 0, 0.1), (0, 0.1, 0.1))]
+STL_OPEN = _ascii_stl(_CUBE)  # a box of 0.1 m without its top face
+STL_FLAT = _ascii_stl(_CUBE[:2] + [f[::-1] for f in _CUBE[:2]])  # a square and its back: closed, no volume
+
+
+def _vtu_bytes():
+    """A valid one-snapshot VTU of four particles, written by shoal."""
+    import tempfile
+
+    from shoal.output.vtu import write_vtu
+
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "c_0000.vtu"
+        write_vtu(path, np.zeros((4, 3)), {"rho": np.ones(4)}, time=0.0)
+        return path.read_bytes()
+
+
+_VTU = _vtu_bytes()
+_PVD = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n<Collection>\n'
+        '<DataSet timestep="0" file="c_0000.vtu"/>\n</Collection>\n</VTKFile>\n')
+POST_PLANE = ["post", "{d}/run", "--plane", "z=0", "--out", "{d}/plots"]
+
+
+def _damaged_run(vtu):
+    """The files of a run directory whose only snapshot holds the bytes `vtu`."""
+    return {"run/c.pvd": _PVD, "run/c_0000.vtu": vtu, "run/resolved.json": "{}"}
+
 TS_DECREASING = "t,x\n0.0,0.0\n1.0,0.1\n0.5,0.2\n"
 
 RUN = ["--out", "{d}/out", "--no-plot", "--no-progress"]
+BLOCK_CASE = edit(('hi = [0.6, 0.0, 0.5] }', 'hi = [1.2, 0.0, 0.6] }'),
+                  append='\n[[solids]]\nname = "block"\nshape = { type = "box", lo = [0.6, 0.0, 0.0], '
+                         'hi = [0.9, 0.0, 0.5] }\n')
+GAUGE = '\n[[probes]]\ntype = "gauge"\nname = "g"\nx = {x}\nz0 = 0.05\nz1 = 0.4\ninterval = 0.005\n'
 PADDLE_BOX = '{ type = "box", lo = [0.1, 0.0, 0.0], hi = [0.15, 0.0, 0.4] }'
 MOTION_CV = '\n[[motions]]\ntype = "constant_velocity"\nname = "m"\nvelocity = [{v}]\n'
 MOTION_TS = '\n[[motions]]\ntype = "time_series"\nname = "m"\nfile = "paddle.csv"\n'
@@ -370,6 +414,24 @@ CORPUS = [
     ("fluid-velocity-1e300-run", {"case.toml": edit(("hi = [0.6, 0.0, 0.3] }", "hi = [0.6, 0.0, 0.3] }\n"
                                                                                "velocity = [1e300, 0.0, 0.0]"))},
      ["run", "{d}/case.toml", *RUN], ["fluids[0].velocity", "not below the speed of sound c0 = 34.3 m/s"]),
+    # issue 30, class 7: probes buried in a fixed wall (they recorded NaN for the whole run)
+    ("gauge-inside-a-block", {"case.toml": BLOCK_CASE + GAUGE.format(x=0.75)}, None,
+     ["probes[0] (gauge 'g')", "x = 0.75 m, z = 0.05 .. 0.4 m", "inside solids[1] (block)", "move it into the water"]),
+    ("gauge-inside-the-tank-wall-run", {"case.toml": BLOCK_CASE + GAUGE.format(x=-0.05)}, ["run", "{d}/case.toml", *RUN],
+     ["x = -0.05 m", "inside solids[0] (tank)"]),
+    ("probe-point-inside-a-block", {"case.toml": BLOCK_CASE + '\n[[probes]]\ntype = "points"\nname = "p"\n'
+                                    "points = [[0.3, 0.0, 0.1], [0.75, 0.0, 0.2]]\ninterval = 0.005\n"}, None,
+     ["probes[0] (points 'p'): points[1] = [0.75, 0.0, 0.2]", "inside solids[1] (block)"]),
+    # issue 30, class 7: meshes that bound no solid (an open one classified lattice nodes at random)
+    ("stl-open-box", {"case.toml": solid('{ type = "mesh", file = "rock.stl" }', base=BASE3D), "rock.stl": STL_OPEN},
+     None, ["rock.stl' is open", "4 edges belong to one triangle only", "fill its holes"]),
+    ("stl-flat", {"case.toml": solid('{ type = "mesh", file = "rock.stl" }', base=BASE3D), "rock.stl": STL_FLAT},
+     None, ["rock.stl' encloses no volume", "flat"]),
+    # issue 30, class 6: snapshots that meshio cannot parse (it printed its own message and exited 1)
+    ("post-a-truncated-vtu", _damaged_run(_VTU[: len(_VTU) // 2]), POST_PLANE,
+     ["c_0000.vtu is not a readable VTU snapshot", "truncated or damaged", "move it aside"]),
+    ("post-an-empty-vtu", _damaged_run(b""), POST_PLANE, ["c_0000.vtu is not a readable VTU snapshot"]),
+    ("post-a-binary-vtu", _damaged_run(bytes(range(256)) * 8), POST_PLANE, ["c_0000.vtu is not a readable VTU"]),
     # issue 30, class 8: a report merged from nothing
     ("validate-report-only-from-nothing", {}, ["validate", "--report-only", "--out", "{d}/out"],
      ["nothing to merge", "no results.json", "shoal validate --out DIR"]),
