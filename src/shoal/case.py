@@ -447,6 +447,42 @@ class Case(BaseModel):
                                  "0.1 c0 (check the units), or raise c0 with options.coef_sound or fluid.u_max")
 
     # ------------------------------------------------------------ derived
+    def data_files(self):
+        """The data files the case reads (bathymetries, STL meshes, time series), each with its SHA-256.
+
+        Returns
+        -------
+        dict of str to str or None
+            Absolute path -> hex digest (None for a file that cannot be read). A run records this in
+            ``resolved.json``; a resume compares it (`shoal.simulation.resume.check_same_data`), since
+            the case file names a data file only by its path.
+        """
+        import hashlib
+        from pathlib import Path
+
+        found = set()
+
+        def walk(v):
+            if isinstance(v, dict):
+                for k, x in v.items():
+                    if k == "file" and isinstance(x, str):
+                        found.add(x)
+                    else:
+                        walk(x)
+            elif isinstance(v, list):
+                for x in v:
+                    walk(x)
+
+        walk(self.resolved())
+        out = {}
+        for f in sorted(found):
+            try:
+                with open(Path(f), "rb") as fh:
+                    out[f] = hashlib.file_digest(fh, "sha256").hexdigest()
+            except OSError:
+                out[f] = None
+        return out
+
     @property
     def sound_speed(self):
         """c0 = coef_sound sqrt(|g| depth), or coef_sound u_max [m/s] (`shoal.physics.constants.speed_of_sound`)."""

@@ -285,7 +285,7 @@ class Ranks:
         (or the union to re-distribute) (collective; InputError on every rank alike: no usable
         checkpoint, another case, a finished run)."""
         from ..simulation.one_process import StartPoint
-        from ..simulation.resume import check_same_case
+        from ..simulation.resume import check_same_case, check_same_data
         from .checkpoint import find_resume
 
         warnings = []
@@ -296,6 +296,7 @@ class Ranks:
 
         man, obj, ck = find_resume(out_dir, self.comm, warn=warn)
         check_same_case(case, ck)
+        check_same_data(case, out_dir)  # every rank reads the same files: the same answer on each
         if ck.time >= case.end_time * (1 - 1e-12):
             raise InputError(f"the run in {out_dir} is complete (checkpoint {man.name} at t = {ck.time:.6g} s, "
                              f"end_time = {case.end_time:g} s); give a later --end-time to extend it")

@@ -196,7 +196,7 @@ def resume_point(case, out_dir):
     """The `StartPoint` to resume the run in `out_dir` from on one process: its newest valid
     checkpoint of either kind (a damaged one is skipped with a warning)."""
     from ..casefile import load_case
-    from .resume import check_same_case, latest_checkpoint
+    from .resume import check_same_case, check_same_data, latest_checkpoint
 
     if not (out_dir / "resolved.json").exists() and not any(out_dir.glob("ckpt_*")):
         raise InputError(f"{out_dir} holds no run to resume (no resolved.json or checkpoint)")
@@ -213,6 +213,7 @@ def resume_point(case, out_dir):
             raise InputError(f"{toml} is missing: the run's case file is needed to resume it")
         case = load_case(toml)
     check_same_case(case, ck)
+    check_same_data(case, out_dir)
     if ck.time >= case.end_time * (1 - 1e-12):
         raise InputError(f"the run in {out_dir} is complete (checkpoint {ck.path.name} at t = {ck.time:.6g} s, "
                          f"end_time = {case.end_time:g} s); give a later --end-time to extend it")

@@ -241,3 +241,26 @@ def check_same_case(case, ck):
         raise InputError(f"the case differs from the one {ck.path.name} was written with (in: {', '.join(diff)}); "
                          "a resumed run continues the same case: only end_time, [checkpoint] and "
                          "max_escaped_fraction may change")
+
+
+def check_same_data(case, out_dir):
+    """InputError if a data file of `case` (`shoal.Case.data_files`) is missing or differs from the
+    one the run in `out_dir` started with (its SHA-256 in ``resolved.json``): the case file names a
+    data file only by its path, and a resumed run must continue the same case. A run directory
+    whose ``resolved.json`` records no data files (written before they were recorded) is not checked."""
+    try:
+        recorded = json.loads((Path(out_dir) / "resolved.json").read_text(encoding="utf-8")).get("data_files")
+    except (OSError, ValueError, AttributeError):
+        return
+    if not isinstance(recorded, dict):
+        return
+    now = case.data_files()
+    for path, digest in recorded.items():
+        if path in now and now[path] == digest:
+            continue
+        if now.get(path, digest) is None or not Path(path).is_file():
+            raise InputError(f"{path} is missing: the run in {out_dir} read it when it started; put it back to "
+                             "resume the run, or start it again with --overwrite")
+        raise InputError(f"{path} has changed since the run in {out_dir} started (its SHA-256 differs from the one "
+                         "in resolved.json): a resumed run continues the same case; restore the file, or start the "
+                         "run again with --overwrite")

@@ -43,5 +43,5 @@ def run_summary(case, model):
     return {
         "name": case.name, "dim": case.dim, "dp": case.dp, "particles": counts, "total_particles": model.n_total,
         "domain": [lo.tolist(), hi.tolist()], "end_time": case.end_time, "output_interval": case.output.interval,
-        "parameters": case.parameters,
+        "parameters": case.parameters, "data_files": case.data_files(),
     }
