@@ -22,7 +22,8 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 
 LAYERS = [
     # 0: no shoal imports but these
-    ["shoal.errors", "shoal.version", "shoal.cache_lock", "shoal.data", "shoal.parallel", "shoal.environment"],
+    ["shoal.errors", "shoal.version", "shoal.cache_lock", "shoal.data", "shoal.parallel", "shoal.environment",
+     "shoal.faults"],
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
     ["shoal.geometry", "shoal.physics", "shoal.neighbours", "shoal.backends", "shoal.timestepping", "shoal.options",
      "shoal.motions", "shoal.analysis", "shoal.output", "shoal.memory", "shoal.simulation.resources",

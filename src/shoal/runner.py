@@ -139,6 +139,9 @@ def _run(case, out_dir, procs, model, point, backend, progress, plot, max_steps,
                 if point.ck is None:
                     clear_run(out_dir, case)  # the earlier run's files: none is read as this run's
                     clear_checkpoints(out_dir)  # a new run never resumes from an older run's state
+                    # resolved.json first: a run killed before it wrote it would leave a run.log or case.toml
+                    # that marks the directory as someone else's (`foreign_clash`), refused even --overwrite
+                    _write_resolved(case, out_dir, procs, model, backend)
                 else:
                     set_aside_newer(out_dir, point.ck.step)
                 log = open_run_log(out_dir, append=point.ck is not None)
@@ -168,6 +171,17 @@ def _run(case, out_dir, procs, model, point, backend, progress, plot, max_steps,
         raise OutputError(msg) from None
 
 
+def _write_resolved(case, out_dir, procs, model, backend):
+    """Write ``resolved.json`` (atomically): the set-up of a new run, and the mark of a shoal run directory."""
+    from .output.atomic import write_text_atomic
+
+    resolved = run_summary(case, model)
+    resolved.update(shoal_version=__version__, backend=backend, python=platform.python_version(),
+                    threads=model.backend.threads(), options=case.options.to_dict(), smoothing_length=model.h,
+                    speed_of_sound=model.c0, eos_B=model.B, particle_mass=model.mass, **procs.resolved(model))
+    write_text_atomic(out_dir / "resolved.json", json.dumps(resolved, indent=2, default=float) + "\n")
+
+
 def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_steps, handle_signals, log, state):
     import time as _time
     from contextlib import nullcontext
@@ -184,12 +198,6 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     if procs.rank == 0:
         write_case(case, out_dir / "case.toml")
         if ck is None:
-            resolved = run_summary(case, model)
-            resolved.update(shoal_version=__version__, backend=backend, python=platform.python_version(),
-                            threads=model.backend.threads(), options=case.options.to_dict(),
-                            smoothing_length=model.h, speed_of_sound=model.c0, eos_B=model.B,
-                            particle_mass=model.mass, **procs.resolved(model))
-            (out_dir / "resolved.json").write_text(json.dumps(resolved, indent=2, default=float) + "\n")
             log.info("case %s: %s", case.name, case.description)
         log.info("shoal %s, Python %s", __version__, platform.python_version())
         procs.log_start(log, case, model, backend, resumed=ck is not None)

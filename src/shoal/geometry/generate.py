@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..faults import reached
 
 FLUID, FIXED, MOVING = 0, 1, 2
 _NUDGE = 1e-7 * np.array([0.731, 0.547, 0.613])
@@ -292,6 +293,7 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
 
     def slab(xs):
         """Walls and fluid of the slab of lattice columns [xs, xs + nx_slab), with a halo."""
+        reached("generate")  # a test hook (shoal.faults)
         out_pos, out_kind, out_vel, out_body, out_region, out_ghost = [], [], [], [], [], []
         xe = min(shape[0], xs + nx_slab)
         gs, ge = max(0, xs - halo), min(shape[0], xe + halo)

@@ -16,6 +16,7 @@ import stat
 from pathlib import Path
 
 from ..errors import InputError, OutputError
+from ..faults import reached
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
@@ -34,6 +35,7 @@ def write_bytes_atomic(path, data, chunk=1 << 24):
             done = 0
             while done < len(view):
                 done += os.write(fd, view[done:done + chunk])
+                reached(f"write:{path.name}")  # a test hook (shoal.faults): killed mid-write
             os.fsync(fd)
         finally:
             os.close(fd)
@@ -102,6 +104,7 @@ def replace_file(path, write):
     check_target(tmp)
     try:
         write(tmp)
+        reached(f"write:{path.name}")  # a test hook (shoal.faults): killed before the rename
         fd = os.open(tmp, os.O_RDONLY)
         try:
             os.fsync(fd)

@@ -23,6 +23,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from ..faults import reached
 from .atomic import write_text_atomic
 
 __all__ = ["pvtu_layout", "pvtu_pieces", "read_pvtu", "read_vtu", "write_pvtu", "write_vtu"]
@@ -173,6 +174,7 @@ def write_vtu(path, points, point_data, time=None):
         meshio.write(
             tmp, mesh, file_format="vtu", binary=True, compression=compression
         )
+        reached(f"write:{os.path.basename(path)}")  # a test hook (shoal.faults): killed mid-write
         if time is not None:
             _insert_time(tmp, tmp_timed, time)
             os.replace(tmp_timed, tmp)

@@ -212,7 +212,8 @@ def latest_checkpoint(out_dir, warn=None, mpi=True):
                        for p, obj in read_manifests(out_dir, warn)]
     if not candidates:
         kinds = "ckpt_NNNNNN.h5 or ckpt_NNNNNN.mpi.json" if mpi else "ckpt_NNNNNN.h5"
-        raise InputError(f"{out_dir} holds no checkpoint ({kinds}) to resume from")
+        raise InputError(f"{out_dir} holds no checkpoint ({kinds}) to resume from: the run stopped before its "
+                         "first one; start it again with --overwrite")
     candidates.sort(key=lambda c: c[:2], reverse=True)
     for _, _, p, obj in candidates:
         try:

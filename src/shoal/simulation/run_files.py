@@ -14,6 +14,7 @@ import tomllib
 from pathlib import Path
 
 from ..errors import InputError
+from ..faults import reached
 
 _FIXED = ("case.toml", "resolved.json", "run.log")
 _PATTERN = re.compile(r"^(escaped(\.rank\d+)?\.csv|(gauge|probe|track|force|maxz|runup|flow|pressure)_[A-Za-z0-9_.\-]+"
@@ -80,7 +81,10 @@ def clear_run(out_dir, case):
     old = earlier_name(out_dir)
     if isinstance(old, str):
         names.add(old)
-    for p in run_files(out_dir, sorted(names)):
+    # resolved.json last: while it is there the directory is known as a shoal run, so one killed in the middle
+    # of this clearing is cleared by the next --overwrite, not refused as someone else's (`foreign_clash`)
+    for p in sorted(run_files(out_dir, sorted(names)), key=lambda p: p.name == "resolved.json"):
+        reached(f"remove:{p.name}")  # a test hook (shoal.faults)
         if p.is_dir() and not p.is_symlink():
             shutil.rmtree(p)
         else:

@@ -16,6 +16,7 @@ import math
 import time as _time
 
 from ..errors import InstabilityError
+from ..faults import reached
 from ..timestepping import make_integrator
 from .stages import default_stages
 
@@ -150,6 +151,7 @@ class Simulation:
             if " step " in str(err):
                 raise
             raise InstabilityError(f"unstable at step {self.step_count + 1}, t = {self.time:.6g} s: {err}") from None
+        reached("step")  # a test hook (shoal.faults): killed in the middle of a step
         self.time += dt
         m.time = self.time
         self.step_count += 1
