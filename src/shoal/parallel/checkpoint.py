@@ -197,7 +197,8 @@ def find_resume(out_dir, comm, warn=None):
         found = [(str(p), obj) for p, obj in read_manifests(out_dir, warn)]
         single = list_checkpoints(out_dir)
         if not found and not single:
-            message = f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from"
+            message = (f"{out_dir} holds no checkpoint (ckpt_NNNNNN.mpi.json) to resume from: the run stopped before "
+                       "its first one; start it again with --overwrite")
         elif single and found and checkpoint_step(single[0]) > checkpoint_step(Path(found[0][0])):
             found = []  # a single-process checkpoint is the newest state
     found, message = comm.bcast((found, message), root=0)
