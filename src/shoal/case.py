@@ -57,15 +57,18 @@ def _plain_record(d):
     if not isinstance(d, dict):
         return d
 
-    def plain(v, where):
+    def plain(v, where, depth=0):
         if isinstance(v, np.generic):
             v = v.item()
         if isinstance(v, (bool, int, float, str)):
             return v
+        if depth >= 100 and isinstance(v, (list, tuple, dict)):  # deeper, the case could not be written back
+            raise ValueError(f"{where[:40]}...: arrays or tables nested more than 100 deep (a parameter is a "
+                             "number, string, boolean, array or table)")
         if isinstance(v, (list, tuple)):
-            return [plain(x, f"{where}[{i}]") for i, x in enumerate(v)]
+            return [plain(x, f"{where}[{i}]", depth + 1) for i, x in enumerate(v)]
         if isinstance(v, dict) and all(isinstance(k, str) for k in v):
-            return {k: plain(x, f"{where}.{k}") for k, x in v.items()}
+            return {k: plain(x, f"{where}.{k}", depth + 1) for k, x in v.items()}
         shown = "nothing" if v is None else repr(v)[:60]
         raise ValueError(f"{where} = {shown}: a parameter is a number, string, boolean, array or table")
 

@@ -12,6 +12,7 @@ Every error is one line naming the file, the key with its path (e.g.
 from __future__ import annotations
 
 import re
+import sys
 import tomllib
 import typing
 from dataclasses import fields as dc_fields
@@ -52,16 +53,37 @@ def load_case(path, overrides=None):
     if not path.is_file():
         raise InputError(f"case file {str(path)!r} not found")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        # utf-8-sig: a byte-order mark, as some Windows editors write, is not read as part of the first key
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not valid TOML: {exc}") from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a text file (a TOML case file is UTF-8 text)") from None
+    except ValueError:  # tomllib lets int()'s own limit through: an integer of more than 4300 digits
+        raise InputError(f"{path}: an integer has more than {sys.get_int_max_str_digits()} digits, the most "
+                         "Python reads (no case value needs so many)") from None
     except RecursionError:
         raise InputError(f"{path}: tables or arrays nested too deeply to be a case file") from None
+    big = wide_integer(data)
+    if big is not None:  # (tomllib reads any size; one of thousands of digits could not even be written back)
+        raise InputError(f"{path}: {big} is an integer beyond 64 bits; TOML integers are 64-bit, from -2^63 to "
+                         "2^63 - 1")
     if overrides:
         data.update(overrides)
     return case_from_dict(data, source=str(path), base_dir=path.parent)
+
+
+def wide_integer(data, where=""):
+    """The key path (e.g. ``solids[0].layers``) of the first integer in the parsed TOML `data` outside the
+    64-bit range of the TOML specification, or None."""
+    if isinstance(data, int) and not isinstance(data, bool):
+        return None if -2**63 <= data < 2**63 else where
+    items = data.items() if isinstance(data, dict) else enumerate(data) if isinstance(data, list) else ()
+    for k, v in items:
+        found = wide_integer(v, f"{where}[{k}]" if isinstance(k, int) else f"{where}.{k}" if where else k)
+        if found is not None:
+            return found
+    return None
 
 
 def case_from_dict(data, source="case", base_dir=None):
@@ -154,7 +176,11 @@ def _short(v, n=60):
         return "nothing"
     if hasattr(v, "isoformat"):
         return v.isoformat()
-    r = repr(v)
+    try:
+        r = repr(v)
+    except ValueError:  # an integer of more digits than str() of an int gives (4300), or an array holding one
+        what = "an integer" if isinstance(v, int) else "an array with an integer"
+        return f"{what} of more than {sys.get_int_max_str_digits()} digits"
     return r if len(r) <= n else r[: n - 3] + "..."
 
 
@@ -340,7 +366,10 @@ def dumps_case(case, commented=True, file_name="case.toml"):
         if doc and "#" not in line and len(line) < 100:
             line = f"{line}  # {doc}"
         lines.append(line)
-    return HEADER.format(file=file_name) + _parameters_record(record) + "\n" + "\n".join(lines) + "\n"
+    # the file's name in the header's comments: a newline in it would end the comment, an undecodable byte
+    # (a surrogate escape) could not be written as UTF-8
+    shown = "".join(ch if ch.isprintable() else "?" for ch in file_name)
+    return HEADER.format(file=shown) + _parameters_record(record) + "\n" + "\n".join(lines) + "\n"
 
 
 def _parameters_record(parameters):

@@ -36,9 +36,15 @@ from .errors import InputError, InstabilityError, OutputError, RunInterrupted
 DEFAULT_CASE = "dam-break-2d"
 
 
+def _printable(text):
+    """`text` on one line: a control character (a newline in a file name) or an undecodable byte of an
+    argument shown escaped, as repr shows it, so an error stays one line and sends the terminal no escape."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit 2 (argparse prints usage first otherwise)
-        sys.stderr.write(f"shoal: error: {message}\n")
+        sys.stderr.write(f"shoal: error: {_printable(message)}\n")
         raise SystemExit(2)
 
 
@@ -158,6 +164,8 @@ def _parse_params(items, flag="--param", example="inflow_speed=0.7"):
     """--param (or `flag`) KEY=VALUE items -> dict, values parsed as TOML (numbers, booleans, strings)."""
     import tomllib
 
+    from .casefile import wide_integer
+
     out = {}
     for item in items:
         key, sep, text = item.partition("=")
@@ -165,9 +173,17 @@ def _parse_params(items, flag="--param", example="inflow_speed=0.7"):
         if not sep or not key.isidentifier():
             raise InputError(f"{flag} {item!r} must look like KEY=VALUE, e.g. {flag} {example}")
         try:
+            text.encode("utf-8")
+        except UnicodeEncodeError:  # a byte of the argument that is not UTF-8 (a surrogate escape)
+            raise InputError(f"{flag} {key}=...: the value holds a byte that is not UTF-8 (the case file it goes "
+                             "into is UTF-8 text); give UTF-8 text") from None
+        try:
             out[key] = tomllib.loads(f"v = {text.strip()}")["v"]
-        except tomllib.TOMLDecodeError:
+        except ValueError:  # TOMLDecodeError, or an integer of more than 4300 digits (int()'s limit)
             out[key] = text.strip()  # a bare word: a string
+        if wide_integer(out[key]) is not None:  # (as in a case file: one of thousands of digits cannot be written)
+            raise InputError(f"{flag} {key}=...: an integer beyond 64 bits; TOML integers are 64-bit, from -2^63 "
+                             "to 2^63 - 1")
     return out
 
 
@@ -187,7 +203,9 @@ def _get_case_checked(get_case, name, kwargs, params):
     except ValidationError as err:
         raise InputError(f"case {name!r}{f' with --param {given}' if params else ''}: "
                          f"{format_validation_error(err)}") from None
-    except (TypeError, AttributeError) as err:
+    except InputError:
+        raise
+    except (TypeError, AttributeError, ValueError) as err:  # (ValueError: float('cubic') in a case function)
         if not params:
             raise
         raise InputError(f"case {name!r}: a --param value has the wrong kind ({given}): "
@@ -342,10 +360,11 @@ def cmd_new(args):
 
     if args.name not in CASES:
         raise InputError(f"unknown case {args.name!r}; built-in cases: {', '.join(CASES)}")
-    kwargs = _parse_params(args.param)
+    params = _parse_params(args.param)
+    kwargs = dict(params)
     if args.dp is not None:
         kwargs["dp"] = args.dp
-    case = get_case(args.name, **kwargs)
+    case = _get_case_checked(get_case, args.name, kwargs, params)  # a --param of the wrong kind: one line
     out = Path(args.output or f"{args.name}.toml")
     if out.exists() and not args.force:
         raise InputError(f"{out} exists; choose another file with -o or pass --force")
@@ -484,6 +503,11 @@ def main(argv=None):
         signal.signal(signal.SIGINT, signal.default_int_handler)
 
     quiet_other_ranks()  # under mpiexec: messages from rank 0 only
+    # a file name with a byte that is not UTF-8 (a surrogate escape in argv) is printed escaped, not a
+    # UnicodeEncodeError (stdout is strict under UTF-8 locales other than C.UTF-8)
+    for stream in (sys.stdout, sys.stderr):
+        if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -499,7 +523,7 @@ def main(argv=None):
         return {"run": cmd_run, "cases": cmd_cases, "info": cmd_info, "check": cmd_check, "new": cmd_new,
                 "plot-case": cmd_plot_case, "post": cmd_post, "validate": cmd_validate}[args.command](args)
     except InputError as err:
-        sys.stderr.write(f"shoal: error: {err}\n")
+        sys.stderr.write(f"shoal: error: {_printable(err)}\n")
         return 2
     except InstabilityError as err:
         sys.stderr.write(f"shoal: run stopped: {err}\n")
@@ -508,7 +532,7 @@ def main(argv=None):
         sys.stderr.write(f"shoal: {err}\n")
         return err.exit_status
     except OutputError as err:
-        sys.stderr.write(f"shoal: error: {err}\n")
+        sys.stderr.write(f"shoal: error: {_printable(err)}\n")
         return 4
     except BrokenPipeError:  # the reader went away (shoal cases | head -1): end quietly, as a killed writer
         try:
@@ -522,7 +546,7 @@ def main(argv=None):
         name = str(getattr(err, "filename", None) or "")
         name = name if len(name) <= 200 else name[:100] + "..." + name[-60:]
         what = f"{err.strerror or err}" + (f": {name}" if name else "")
-        sys.stderr.write(f"shoal: error: {what}\n")
+        sys.stderr.write(f"shoal: error: {_printable(what)}\n")
         return 4 if err.errno in DISK_FULL else 2
     except KeyboardInterrupt as err:
         signum = getattr(err, "signum", 2)

@@ -88,8 +88,9 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
 
 
 def probe_samples(case, spec):
-    """Samples a probe takes during the run (one at t = 0, then every interval)."""
-    return int(math.floor(case.end_time / spec.interval + 1e-9)) + 1
+    """Samples a probe takes during the run (one at t = 0, then every interval); inf past the floats."""
+    n = case.end_time / spec.interval + 1e-9
+    return int(math.floor(n)) + 1 if math.isfinite(n) else math.inf
 
 
 def probe_record_values(case, spec):
@@ -106,7 +107,8 @@ def probe_record_values(case, spec):
     if spec.type == "pressure":
         return 1 + len(spec.points), len(spec.points)
     if spec.type == "gauge":
-        return 2, max(2, math.ceil((spec.z1 - spec.z0) / (0.5 * case.dp)) + 1)
+        n = (spec.z1 - spec.z0) / (0.5 * case.dp)  # inf for z0 .. z1 beyond the floats (-1e308 .. 1e308)
+        return 2, max(2, math.ceil(n) + 1) if math.isfinite(n) else math.inf
     if spec.type == "maxz":
         return 2, 0
     if spec.type == "runup":
@@ -198,7 +200,7 @@ def check_generation_size(case, lo, hi):
     mem = physical_memory()
     if nodes <= NODE_LIMIT and (not mem or nodes * BYTES_PER_PARTICLE <= 0.8 * mem):
         return
-    if all(math.isfinite(e) for e in ext):
+    if all(math.isfinite(e) for e in ext) and math.isfinite(nodes):  # (a dp such as 5e-324: nodes overflow)
         # about SAMPLE_NODES sample nodes, as evenly spaced as the box allows (an axis shorter than the
         # spacing gets one node, and the others share the rest), never closer than dp
         counts = [1] * dim
@@ -242,7 +244,7 @@ def check_memory(case, available=None):
     have = available_memory() if available is None else available
     if have and need > have:
         n = case.n_particles
-        if probes > 0.01 * need:
+        if probes > 0.01 * need or math.isinf(probes):
             k, spec = max(enumerate(case.probes), key=lambda ks: probe_bytes(case, [ks[1]]))
             how = {"grid": "fewer grid nodes (counts) or a longer interval",
                    "gauge": "a shorter z0 .. z1 (sampled every dp/2)"}.get(spec.type, "fewer points or a longer interval")

@@ -62,6 +62,8 @@ def piston_height_to_stroke(k, depth):
     H / S = 2 (cosh 2kd - 1) / (sinh 2kd + 2kd) (Biesel & Suquet 1951;
     Dean & Dalrymple 1991, Eq. 6.21)."""
     kd2 = 2.0 * k * depth
+    if kd2 > 50.0:  # deep water: the ratio is 2 to double precision (and cosh, sinh overflow past 710)
+        return 2.0
     return 2.0 * (math.cosh(kd2) - 1.0) / (math.sinh(kd2) + kd2)
 
 
@@ -215,6 +217,13 @@ class SolitaryPiston(Motion):
             raise ValueError(f"height = {self.height:g} m is {self.height / self.depth:.3g} times the depth "
                              f"{self.depth:g} m: a solitary wave breaks above H / d = 0.78 (McCowan 1894); give a "
                              f"height of at most {0.78 * self.depth:.3g} m")
+        try:  # k = sqrt(3 H / 4 d^3): d^3 overflows past d = 5.6e102 m, underflows below 1e-108 m
+            finite = all(math.isfinite(v) and v > 0 for v in (self.k, self.stroke, self.duration))
+        except (OverflowError, ZeroDivisionError):
+            finite = False
+        if not finite:
+            raise ValueError(f"height = {self.height:g} m in {self.depth:g} m of water gives no finite paddle stroke "
+                             "and duration; give the height and depth of a water wave in metres")
         return self
 
     @property

@@ -194,6 +194,11 @@ def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)
     origin = np.asarray(origin, float)
     lo = np.asarray(box[0], float)
     hi = np.asarray(box[1], float)
+    for a in (0, 2) if dim == 2 else (0, 1, 2):  # lattice indices are counted from the origin, in floats
+        if not abs(float(lo[a]) - float(origin[a])) / dp < 1e15:
+            raise InputError(f"lattice_origin.{'xyz'[a]} = {origin[a]:.4g} m is more than 1e15 spacings "
+                             f"(dp = {dp:g} m) from the case, which starts at {'xyz'[a]} = {lo[a]:.4g} m: no "
+                             "lattice can be placed from it; give an origin near the case")
     thick = []
     for s in solids:
         if s.layers is not None and (not isinstance(s.layers, (int, np.integer)) or s.layers < 1):

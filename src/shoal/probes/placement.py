@@ -40,11 +40,12 @@ def check_probes(case, n_particles):
             if pr.type == "gauge" and (pr.z1 < lo[2] or pr.z0 > hi[2]):
                 raise InputError(f"{where}: z0 .. z1 = {pr.z0:g} .. {pr.z1:g} m misses the domain's z range "
                                  f"[{lo[2]:.4g}, {hi[2]:.4g}] m")
-        elif pr.type == "grid":
-            for a, (node_axis, name) in enumerate(zip(pr.axes(), "xyz")):
-                if a in axes and (node_axis.min() < lo[a] - tol or node_axis.max() > hi[a] + tol):
-                    raise InputError(f"{where}: its nodes reach {name} = [{node_axis.min():.4g}, "
-                                     f"{node_axis.max():.4g}] m, outside the domain {dom}; a grid must lie inside it")
+        elif pr.type == "grid":  # the nodes' reach from lo, hi and counts (`axes()` of billions of nodes: no memory)
+            for a, (p0, p1, n, name) in enumerate(zip(pr.lo, pr.hi, pr.counts, "xyz")):
+                first, last = (min(p0, p1), max(p0, p1)) if n > 1 else (0.5 * (p0 + p1),) * 2
+                if a in axes and (first < lo[a] - tol or last > hi[a] + tol):
+                    raise InputError(f"{where}: its nodes reach {name} = [{first:.4g}, {last:.4g}] m, outside the "
+                                     f"domain {dom}; a grid must lie inside it")
         elif pr.type == "flow":
             a = "xyz".index(pr.axis)
             if case.dim == 2 and pr.axis == "y":
