@@ -86,8 +86,8 @@ def test_every_builtin_loop_compiles_for_a_gpu(tmp_path):
 @needs_cuda
 def test_models_of_one_scheme_share_their_compiled_kernels():
     """CUDA kernels are compiled at their first launch and not cached on disk, so a second model of the
-    same scheme must reuse the first one's kernels (compiled once per process), and a model of another
-    scheme must not (each specialisation has its own)."""
+    same scheme must reuse the first one's kernels (compiled once per process), and a model of a scheme
+    whose kernels differ (here: the precision) must not."""
     case = dam_break_2d(dp=A / 6, a=A, layers=2, options=SPHOptions(precision="float32"))
     a, b = build_model(case, "cuda"), build_model(case, "cuda")
     other = build_model(dam_break_2d(dp=A / 6, a=A, layers=2, options=SPHOptions(precision="float64")), "cuda")

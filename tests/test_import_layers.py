@@ -25,8 +25,9 @@ LAYERS = [
     ["shoal.errors", "shoal.version", "shoal.cache_lock", "shoal.data", "shoal.parallel", "shoal.environment",
      "shoal.faults"],
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
-    ["shoal.geometry", "shoal.physics", "shoal.neighbours", "shoal.backends", "shoal.timestepping", "shoal.options",
-     "shoal.motions", "shoal.analysis", "shoal.output", "shoal.memory", "shoal.simulation.resources",
+    ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.neighbours", "shoal.backends",
+     "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.analysis", "shoal.output", "shoal.memory",
+     "shoal.simulation.resources",
      "shoal.parallel.decomposition", "shoal.parallel.gpu", "shoal.particle_store"],
     # 2: cases as data
     ["shoal.probes", "shoal.case", "shoal.casefile", "shoal.cases", "shoal.advice"],

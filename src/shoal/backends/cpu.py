@@ -3,7 +3,8 @@
 Every per-particle function of `shoal.physics` and `shoal.timestepping`
 is compiled with `numba.njit` and called from one parallel loop over the
 particles in cell order (`for_each`). Compiled kernels are cached on disk
-(``cache=True``), one specialisation per `SchemeSpec`.
+(``cache=True``), one per distinct kernel: schemes that build a kernel alike share it
+(`shoal.physics.identity`).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 from ..faults import reached
 from ..neighbours.grid import CellGrid
+from ..physics.identity import shared_loop
 from ..physics.spec import FLUID
 from .loops import attach_loops, row_columns
 
@@ -37,24 +39,36 @@ def cpu_jit(fn):
 def make_for_each(fn):
     """Return ``run(n, args)`` calling ``fn(i, *args)`` for i < n in parallel.
 
-    Each kernel gets its own entry in Numba's on-disk cache (a qualified name
-    made from `fn`'s name, which `shoal.physics` makes unique per scheme and
-    source). Under one shared name, every kernel of every scheme went into one
-    index file, and two processes compiling different kernels at once on one
-    cache directory (MPI ranks, a parameter sweep) could both take the same data
-    file for different kernels: a later process then loaded the other
-    scheme's machine code (3D still water lost its particles).
+    One loop kernel per identity of `fn` in a process (`shoal.physics.identity.shared_loop`): the
+    schemes that share a per-particle function share its loop, compiled or loaded once.
+
+    Each kernel gets its own entry in Numba's on-disk cache (a qualified name made from `fn`'s
+    name and content identity, `cache_name`), so that kernels that differ never share an index
+    file. Under one shared name, every kernel of every scheme went into one index file, and two
+    processes compiling different kernels at once on one cache directory (MPI ranks, a parameter
+    sweep) could both take the same data file for different kernels: a later process then loaded
+    the other scheme's machine code (3D still water lost its particles). Schemes whose kernel is
+    the same (same identity) do share its entry, as they should: the machine code is the same.
     """
+    return shared_loop(fn, _build_for_each)
+
+
+def _build_for_each(fn):
+    # np.uint64(i): Numba types the loop body twice, first as a plain loop (i an int64), then as
+    # the parallel loop's body (i a uint64); without the cast `fn` and every function it passes i
+    # on to were compiled for both, and only the uint64 one ran (a sixth of the suite's compile
+    # time). With it the same uint64 code as before is compiled, once.
     def run(n, args):
         for i in numba.prange(n):
-            fn(i, *args)
+            fn(np.uint64(i), *args)
     run.__qualname__ = cache_name(fn)
     return numba.njit(parallel=True, cache=True, fastmath=FASTMATH)(run)
 
 
 def cache_name(fn):
     """``for_each_<function>_<16 hex digits>``: the qualified name of `fn`'s loop kernel, from the
-    stable name (``_uuid``) `shoal.physics` gives each compiled function."""
+    stable name (``_uuid``, its content identity) `shoal.physics.identity.named` gives each compiled
+    function."""
     name = getattr(fn, "py_func", fn).__name__
     digest = hashlib.sha1(str(fn._uuid).encode()).hexdigest()[:16]
     return f"for_each_{name}_{digest}"

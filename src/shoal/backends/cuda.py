@@ -25,6 +25,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import InputError
+from ..physics.identity import shared_loop
 from ..physics.spec import FLUID
 from .loops import attach_loops, row_columns
 
@@ -66,7 +67,14 @@ def cuda_device_jit(fn):
 
 
 def make_for_each(fn):
-    """Return ``run(n, args)``: one thread per particle calls ``fn(i, *args)``."""
+    """Return ``run(n, args)``: one thread per particle calls ``fn(i, *args)``.
+
+    One kernel per identity of `fn` in a process (`shoal.physics.identity.shared_loop`): schemes
+    sharing a device function share its kernel, compiled by NVVM once."""
+    return shared_loop(fn, _build_for_each)
+
+
+def _build_for_each(fn):
     @barrier_free
     @cuda.jit
     def kernel(n, args):
@@ -88,7 +96,8 @@ def _loops_for(spec):
     by every `CUDABackend` of that scheme. Kernels are not cached on disk, so each new set of closures
     would be compiled again by NVVM at its first launch (a fraction of a second per kernel, tens of
     kernels a scheme): a process that builds several models of one scheme (a parameter sweep, the
-    parity tests on a GPU) compiles them once."""
+    parity tests on a GPU) compiles them once. Kernels that another scheme builds alike are shared
+    too (`make_for_each`)."""
     ns = SimpleNamespace()
     attach_loops(ns, cuda_device_jit, make_for_each, spec, "cuda")
     return ns

@@ -41,6 +41,7 @@ def attach_loops(backend, jit, for_each, spec, target):
     backend.move_bodies = for_each(make_body_motion(phys.named_jit, spec))
     backend.wrap_periodic = for_each(make_periodic_wrap(phys.named_jit, spec, phys.unpack))
     backend.damp = for_each(make_damping(phys.named_jit, spec))
+    phys.named_jit.verify()  # every factory has returned: the identities name what will be compiled
 
 
 def row_columns(arrays):

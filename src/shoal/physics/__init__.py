@@ -16,6 +16,7 @@ from .eos import make_eos
 from .forces import make_wall_force
 from .filters import make_filters
 from .free_surface import make_free_surface
+from .identity import named
 from .interpolation import make_probe, make_sensor_moments
 from .kernels import make_kernels
 from .rates import make_rates
@@ -30,56 +31,18 @@ from .viscosity import make_viscosity
 __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIXED", "MOVING"]
 
 
-def _source_hash():
-    """Hash of the kernel source files (physics, neighbours, timestepping,
-    backends): part of every compiled function's cache
-    identity, so that editing any module a kernel inlines (not only the file
-    that defines the outer loop, which is all Numba's cache checks)
-    recompiles instead of loading a stale kernel."""
-    import hashlib
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parent.parent
-    files = [f for d in ("physics", "neighbours", "timestepping", "backends") for f in (root / d).rglob("*.py")]
-    h = hashlib.sha1()
-    for f in sorted(files):
-        h.update(f.relative_to(root).as_posix().encode())
-        h.update(f.read_bytes())
-    return h.hexdigest()[:12]
-
-
-_SOURCE = None
-
-
-def _named(jit, prefix):
-    """Wrap `jit` so each compiled function gets a deterministic identity.
-
-    Numba's on-disk cache keys a closure on its captured values; compiled
-    functions captured by other closures are keyed by their uuid, random by
-    default. Naming them after the scheme makes the cache hit across runs.
-    """
-    count = [0]
-
-    def deco(fn):
-        d = jit(fn)
-        count[0] += 1
-        if hasattr(d, "_set_uuid"):
-            name = f"{prefix}:{fn.__module__}.{fn.__qualname__}#{count[0]}"
-            d._set_uuid(name)
-        return d
-    return deco
-
-
 def build_physics(jit, spec, target="cpu"):
     """Compile the per-particle physics of `spec` with decorator `jit`.
 
+    Each function is compiled through `identity.named`: it is named by its content (code, captured
+    values, the functions it calls) rather than by the whole scheme, so a function that two schemes
+    build alike is one compiled function, shared within the process and in Numba's disk cache.
+
     Returns a namespace with ``pressure``, ``particle_pr2``, ``particle_rates``, ``shepard``,
-    ``mls``, ``w`` and ``grad_factor``.
+    ``mls``, ``w`` and ``grad_factor`` (and the other per-particle functions of the loops, the
+    decorator ``named_jit`` and ``unpack``).
     """
-    global _SOURCE
-    if _SOURCE is None:
-        _SOURCE = _source_hash()
-    j = _named(jit, f"shoal:{_SOURCE}:{target}:{spec.key}")
+    j = named(jit, target)
     unpack = make_unpack(j)
     w, grad_factor = make_kernels(j, spec)
     pressure = make_eos(j, spec)
