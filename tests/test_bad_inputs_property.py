@@ -111,7 +111,7 @@ def _exercise(case):
 
     text = dumps_case(case, commented=True)
     again = case_from_dict(tomllib.loads(text))
-    # the commented file records the parameters as comments only, the resolved one as a table
+    # the commented file records the parameters as comments only, the uncommented one as a table
     assert dumps_case(again) == dumps_case(case.model_copy(update={"parameters": {}}))
     resolved = dumps_case(case, commented=False)
     assert dumps_case(case_from_dict(tomllib.loads(resolved)), commented=False) == resolved  # (text: nan)

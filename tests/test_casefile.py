@@ -476,7 +476,7 @@ def test_cli_new_wave_flume_2d(tmp_path, capsys):
 def test_none_in_parameters_is_writable(tmp_path):
     case = load_case(_write(tmp_path, BASE))
     case = case.model_copy(update={"parameters": {"dp": 0.02, "width": None}})
-    write_case(case, tmp_path / "out.toml", commented=False)  # a run's resolved case keeps the record
+    write_case(case, tmp_path / "out.toml", commented=False)  # uncommented (a checkpoint's copy): the record kept
     assert load_case(tmp_path / "out.toml").resolved()["parameters"] == {"dp": 0.02}
 
 

@@ -1,5 +1,7 @@
 """Every built-in case builds its particles and runs a few steps on the CPU."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -69,7 +71,9 @@ def test_run_writes_a_resolved_case_that_runs_again(tmp_path):
     case = get_case("still-water-2d", dp=0.05, end_time=0.01)
     res = run_case(case, tmp_path / "a", plot=False, max_steps=2)
     again = load_case(tmp_path / "a" / "case.toml")
-    assert again.resolved() == case.resolved()
+    # the same case; the built-in case's parameters are a comment in that file (and a table in resolved.json)
+    assert again.resolved() == case.model_copy(update={"parameters": {}}).resolved()
+    assert json.loads((tmp_path / "a" / "resolved.json").read_text())["parameters"] == case.parameters
     np.testing.assert_array_equal(again.particles().positions, case.particles().positions)
     sim = Simulation(again).run(max_steps=2)  # a Case runs directly, to its own end_time
     assert sim.end_time == case.end_time and sim.step_count == 2 == res.steps
@@ -130,3 +134,16 @@ def test_dam_break_3d_count_estimate_is_the_generated_count(monkeypatch, dp, lay
     monkeypatch.setattr(db, "check_count", lambda n, dim: seen.append(n))
     n = len(db.dam_break_3d(dp=dp, layers=layers).particles().positions)
     assert len(seen) == 1 and abs(seen[0] / n - 1) < 0.02, (seen, n)
+
+
+def test_a_built_in_case_run_from_its_name_resumes(tmp_path, capsys):
+    """The checkpoint holds the case with its parameters; the case.toml the run writes has them as a comment
+    only: they are a record, not the case, and the resume goes on."""
+    from shoal.cli import main
+
+    out = str(tmp_path / "sw")
+    common = ["--no-progress", "--no-plot"]
+    assert main(["run", "still-water-2d", "--dp", "0.05", "--end-time", "0.02", "--checkpoint-interval", "0.01",
+                 "--out", out, *common]) == 0
+    assert main(["run", "--resume", out, "--end-time", "0.03", *common]) == 0
+    assert "resumed from" in capsys.readouterr().out

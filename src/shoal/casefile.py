@@ -342,7 +342,7 @@ def dumps_case(case, commented=True, file_name="case.toml"):
              "domain", "fluid", "options", "output", "checkpoint", "motions", "solids", "fluids"]
     data = {k: data[k] for k in order if k in data} | {k: v for k, v in data.items() if k not in order}
     # a commented file is one a person edits: there the builder's parameters are a comment, since editing
-    # them would change nothing (the tables are the case); a run's resolved file keeps them as a table
+    # them would change nothing (the tables are the case); the uncommented text (a checkpoint's copy) keeps them
     record = data.pop("parameters", None) if commented else None
     if not data.get("parameters"):
         data.pop("parameters", None)
