@@ -23,11 +23,10 @@ def case_warnings(case):
     regions faster than `shoal.motions.MACH_LIMIT` c0 (`shoal.motions.check_motion_speeds`)."""
     import math
 
-    from .motions import MACH_LIMIT, check_motion_speeds
+    from .motions import MACH_LIMIT, check_motion_speeds, fast_warning
 
     c0 = case.sound_speed
-    fast = [f"fluids[{i}] starts at {math.hypot(*f.velocity):.3g} m/s, above {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} "
-            f"m/s: it compresses by more than 1 %; raise options.coef_sound or give fluid.u_max"
+    fast = [fast_warning(f"fluids[{i}] starts at", math.hypot(*f.velocity), c0)
             for i, f in enumerate(case.fluids) if math.hypot(*f.velocity) > MACH_LIMIT * c0]
     return wave_scheme_warnings(case) + check_motion_speeds(case.motions, c0, case.end_time) + fast
 

@@ -398,7 +398,12 @@ def check_motion_speeds(motions, c0, t_end):
                              f"speed below {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} m/s (check the motion's units), or "
                              "raise c0 with options.coef_sound or fluid.u_max")
         if u > MACH_LIMIT * c0:
-            warnings.append(f"motion {m.name!r} reaches {u:.3g} m/s, above {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} "
-                            f"m/s: the fluid it pushes compresses by more than 1 % (Mach {u / c0:.2g}); raise "
-                            "options.coef_sound or give fluid.u_max")
+            warnings.append(fast_warning(f"motion {m.name!r} reaches", u, c0))
     return warnings
+
+
+def fast_warning(what, u, c0):
+    """The warning for a speed `u` [m/s] above `MACH_LIMIT` c0 (a wall's, or a fluid region's at the start):
+    `what` names it ("motion 'gate' reaches")."""
+    return (f"{what} {u:.3g} m/s, above {MACH_LIMIT:g} c0 = {MACH_LIMIT * c0:.3g} m/s: the fluid compresses by "
+            f"more than 1 % (Mach {u / c0:.2g}); raise options.coef_sound or give fluid.u_max")
