@@ -11,8 +11,9 @@ adds the motions fast enough to compress the fluid.
 
 from __future__ import annotations
 
-WAVE_MOTIONS = ("piston", "solitary")
-"""Motion types that make waves (`shoal.motions.PistonWavemaker`, `SolitaryPiston`)."""
+WAVE_MOTIONS = ("piston", "solitary", "irregular", "focused")
+"""Motion types that make waves (`shoal.motions.PistonWavemaker`, `SolitaryPiston`, `IrregularWaves`,
+`FocusedWaves`)."""
 
 ALPHA_FOR_WAVES = 0.01
 """Artificial viscosity above which a wave case is warned about (DualSPHysics's wave examples use 0.01)."""
@@ -41,7 +42,7 @@ def wave_scheme_warnings(case):
     Returns
     -------
     list of str
-        Empty unless the case has a wave paddle (a ``piston`` or ``solitary`` motion) and runs with the
+        Empty unless the case has a wave paddle (a motion whose type is in `WAVE_MOTIONS`) and runs with the
         artificial viscosity above `ALPHA_FOR_WAVES`, or with a smaller kernel than the wave scheme's,
         or with wall friction.
     """

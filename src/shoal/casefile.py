@@ -24,17 +24,19 @@ from pydantic import BaseModel, ValidationError
 from .case import Case
 from .errors import InputError
 from .geometry.shapes import SHAPES
-from .motions import ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion
+from .motions import (ConstantVelocity, FocusedWaves, IrregularWaves, PistonWavemaker, SolitaryPiston,
+                      TimeSeriesMotion)
+from .waves.spectra import SPECTRA
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
-           "time_series": TimeSeriesMotion}
+           "time_series": TimeSeriesMotion, "irregular": IrregularWaves, "focused": FocusedWaves}
 from .probes import (FlowGauge, ForceGauge, MaxZGauge, PointProbes, PressureSensors, RunupGauge, TestPoints, Tracker,
                      WaveGauge)
 
 PROBES = {"points": PointProbes, "gauge": WaveGauge, "grid": TestPoints, "tracker": Tracker, "maxz": MaxZGauge,
           "runup": RunupGauge, "flow": FlowGauge, "force": ForceGauge,
           "pressure": PressureSensors}
-_TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES}
+_TAGGED = {"shape": SHAPES, "motions": MOTIONS, "probes": PROBES, "spectrum": SPECTRA}
 
 
 # ------------------------------------------------------------------ loading

@@ -14,6 +14,15 @@ viscous and boundary terms.
   (1978) method.
 * `TimeSeriesMotion`: displacements read from a file (t, x[, y, z]),
   interpolated with a cubic spline (velocity its derivative).
+* `IrregularWaves`: a piston paddle for a random sea of a spectrum
+  (JONSWAP, Pierson-Moskowitz or tabulated), component by component with
+  Biesel's transfer function.
+* `FocusedWaves`: a piston paddle for a focused wave group (NewWave) that
+  crests at a chosen place and time.
+
+The wave theory (dispersion, transfer functions, spectra, components) is in
+`shoal.waves`; `wavenumber` and `piston_height_to_stroke` are importable from
+here too.
 
 `check_motion_speeds` refuses a motion faster than the speed of sound c0
 of the weakly compressible model and warns about one above `MACH_LIMIT` c0.
@@ -26,9 +35,13 @@ from pathlib import Path
 from typing import Annotated, Literal, Union
 
 import numpy as np
-from pydantic import Field, PrivateAttr, model_validator
+from pydantic import Field, PrivateAttr, field_validator, model_validator
 
 from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
+from .waves.components import focused_components, random_phase_components
+from .waves.dispersion import group_velocity, wavenumber
+from .waves.spectra import AnySpectrum
+from .waves.transfer import piston_height_to_stroke
 
 _G = 9.81
 
@@ -39,32 +52,6 @@ c0 is ten times the largest flow speed)."""
 
 _SAMPLES = 1001
 """Times at which a motion's speed is sampled to find its peak (besides the exact points of each kind)."""
-
-
-def wavenumber(period, depth, g=_G):
-    """Wavenumber k [1/m] of linear waves: omega^2 = g k tanh(k d)
-    (Airy), solved by Newton's method from the deep-water guess."""
-    omega = 2.0 * math.pi / period
-    k = max(omega**2 / g, omega / math.sqrt(g * depth))
-    for _ in range(100):
-        t = math.tanh(k * depth)
-        f = g * k * t - omega**2
-        df = g * t + g * k * depth * (1.0 - t * t)
-        dk = f / df
-        k -= dk
-        if abs(dk) < 1e-14 * k:
-            break
-    return k
-
-
-def piston_height_to_stroke(k, depth):
-    """Biesel transfer function of a piston wavemaker,
-    H / S = 2 (cosh 2kd - 1) / (sinh 2kd + 2kd) (Biesel & Suquet 1951;
-    Dean & Dalrymple 1991, Eq. 6.21)."""
-    kd2 = 2.0 * k * depth
-    if kd2 > 50.0:  # deep water: the ratio is 2 to double precision (and cosh, sinh overflow past 710)
-        return 2.0
-    return 2.0 * (math.cosh(kd2) - 1.0) / (math.sinh(kd2) + kd2)
 
 
 class Motion(Spec):
@@ -356,8 +343,311 @@ class TimeSeriesMotion(Motion):
         return np.asarray(sp(t, 2), float)
 
 
-AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion],
-                      Field(discriminator="type")]
+MAX_COMPONENTS = 32768
+"""Most wave components a spectral paddle may have (its kinematics sum them at every call)."""
+
+MAX_HARMONIC = 1 << 16
+"""Largest f_n / df of a spectral paddle's components: its signal is sampled 20 times per period of that
+harmonic over a repeat period (`SpectralPaddle.peak_speed`)."""
+
+_SAMPLES_PER_PERIOD = 20
+"""Samples per period of a spectral paddle's fastest component where its peak speed is sought."""
+
+
+class SpectralPaddle(Motion):
+    """Base of the piston paddles driven by a sum of wave components (`IrregularWaves`, `FocusedWaves`).
+
+    For components of amplitudes a_n, angular frequencies omega_n, wavenumbers k_n and phases phi_n (made by
+    each kind from its `spectrum`, `shoal.waves.components`), the paddle moves along `direction` as
+
+        X(t) = r(t) sum_n (a_n / T_n) sin(omega_n t + phi_n),   T_n = H/S of a piston at k_n d
+
+    (Biesel's transfer function, `shoal.waves.piston_height_to_stroke`), with the start-up ramp
+    r(t) = (1 - cos(pi t / t_r)) / 2 for t < t_r (`ramp`), 1 after; its velocity is the derivative of X.
+    Each component is `PistonWavemaker`'s motion for a wave of height 2 a_n, shifted in phase: in linear
+    theory the paddle makes, away from its evanescent near field, the elevation
+    eta(x, t) = sum_n a_n cos(omega_n t - k_n x + phi_n) at the distance x in front of its rest position
+    (`elevation`; the ramp's start reaches x about t_r + x / c_g later). The signal repeats itself after the
+    repeat period 1 / df of the components (`shoal.waves.frequency_grid`).
+    """
+
+    spectrum: AnySpectrum
+    depth: PositiveReal
+    components: Annotated[int, Field(ge=1, le=MAX_COMPONENTS, strict=True)] = 256
+    f_min: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.5
+    f_max: Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)] = 3.0
+    ramp_time: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] | None = None
+    direction: Vec3 = (1.0, 0.0, 0.0)
+    paddle: str = "piston"
+    _waves: object = PrivateAttr(default=None)
+    _grid: tuple | None = PrivateAttr(default=None)
+    _terms: tuple | None = PrivateAttr(default=None)
+
+    @field_validator("paddle")
+    @classmethod
+    def _a_piston(cls, v):
+        if v == "flap":
+            raise ValueError("paddle = 'flap' is not available yet: a flap rotates about its hinge, and shoal's "
+                             "motions only translate a solid (shoal.waves.flap_height_to_stroke gives a flap's "
+                             "transfer function); use paddle = 'piston'")
+        if v != "piston":
+            raise ValueError(f"paddle = {v!r} is not a paddle type; allowed: 'piston'")
+        return v
+
+    def _make_components(self):
+        raise NotImplementedError
+
+    def _check_components(self):
+        """Refuse what gives no finite paddle signal (an empty band, a zero axis, infinite wavenumbers or phases,
+        a travel over 1000 depths), a band too narrow for its components, a ramp of zero. Returns the
+        components."""
+        if not self.f_min < self.f_max:
+            raise ValueError(f"f_min = {self.f_min:g} is not below f_max = {self.f_max:g} (both multiples of the "
+                             "peak frequency); give the band of the components, e.g. f_min = 0.5, f_max = 3")
+        if not np.linalg.norm(np.asarray(self.direction, float)) > 0:
+            raise ValueError("direction = [0, 0, 0] is no axis; give the way the paddle pushes, e.g. [1, 0, 0]")
+        fp = self.spectrum.peak_frequency
+        if not (0.0 < fp < math.inf):
+            raise ValueError(f"the spectrum peaks at f = {fp:g} Hz: the band of the components is set in multiples "
+                             "of the peak frequency, which must be positive")
+        try:
+            with np.errstate(all="ignore"):
+                waves = self._make_components()
+                finite = bool(np.all(np.isfinite(waves.wavenumbers)) and np.all(np.isfinite(waves.amplitudes))
+                              and np.all(waves.wavenumbers > 0) and math.isfinite(waves.repeat_period))
+        except (OverflowError, ZeroDivisionError, FloatingPointError):
+            finite = False
+        if not finite:
+            raise ValueError(f"a peak frequency of {fp:g} Hz in {self.depth:g} m of water gives no finite "
+                             "wavelengths and amplitudes; give the spectrum of water waves in metres and seconds")
+        if not np.any(waves.amplitudes > 0):
+            raise ValueError(f"the spectrum holds no energy between f_min = {self.f_min:g} fp and f_max = "
+                             f"{self.f_max:g} fp (fp = {fp:.4g} Hz): the paddle would not move; widen the band")
+        if not np.all(np.abs(waves.phases) < 1e10):  # (beyond, a phase has lost its sixth decimal)
+            raise ValueError("the components' phases k x - omega t at the focus are beyond 1e10 rad, where they "
+                             "lose their precision; give a nearer x_focus or an earlier t_focus")
+        harmonic = float(waves.frequencies.max() / waves.df)
+        if harmonic > MAX_HARMONIC:
+            raise ValueError(f"{self.components} components over f_min .. f_max = {self.f_min:g} .. {self.f_max:g} fp "
+                             f"repeat only after {harmonic:.3g} periods of the fastest one (more than "
+                             f"{MAX_HARMONIC}); widen the band or give fewer components")
+        with np.errstate(all="ignore"):
+            bound = float(np.sum(self._coefficients(waves)))
+        if not bound <= 1000.0 * self.depth:
+            travel = f"up to {bound:.3g} m" if math.isfinite(bound) else "without bound"
+            raise ValueError(f"the components need a paddle travel {travel}, more than 1000 times the "
+                             f"depth {self.depth:g} m (Biesel's H/S is small for long waves); raise f_min above "
+                             f"{self.f_min:g} fp or give a shorter peak period")
+        if self.ramp_time is not None and self.ramp_time <= 0:
+            raise ValueError("ramp_time = 0 s would start the paddle away from where the case puts it (the sum of "
+                             "the components is not 0 at t = 0); give a ramp of a peak period or more (the default "
+                             "is two)")
+        if self.ramp_time is not None and self.ramp_time > waves.repeat_period * (1 + 1e-9):
+            raise ValueError(f"ramp_time = {self.ramp_time:g} s is longer than the repeat period 1/df = "
+                             f"{waves.repeat_period:.4g} s of the components, after which the signal repeats itself; "
+                             "give a shorter ramp (a few peak periods) or more components")
+        return waves
+
+    def _miche_height(self, fp):
+        """Miche's (1944) highest wave H_max = 0.142 L tanh(kd) [m] at the frequency fp [Hz], and L [m]."""
+        k = wavenumber(1.0 / fp, self.depth)
+        length = 2.0 * math.pi / k
+        return 0.142 * length * math.tanh(k * self.depth), length
+
+    @property
+    def wave_components(self):
+        """The components (`shoal.waves.WaveComponents`): frequencies, amplitudes, phases, wavenumbers."""
+        if self._waves is None:
+            self._waves = self._make_components()
+        return self._waves
+
+    @property
+    def repeat_period(self):
+        """1 / df [s]: the paddle's signal repeats itself after this time (past the ramp)."""
+        return self.wave_components.repeat_period
+
+    @property
+    def ramp(self):
+        """t_r [s]: `ramp_time`, or else two peak periods (at most the repeat period)."""
+        if self.ramp_time is not None:
+            return float(self.ramp_time)
+        return min(2.0 / self.spectrum.peak_frequency, self.repeat_period)
+
+    @staticmethod
+    def _coefficients(waves):
+        """b_n = a_n / T_n [m]: the paddle amplitude of each component."""
+        return waves.amplitudes / piston_height_to_stroke(waves.wavenumbers, waves.depth)
+
+    def _ramp_factor(self, t):
+        tr = self.ramp
+        if tr <= 0 or t >= tr:
+            return 1.0, 0.0
+        if t <= 0:
+            return 0.0, 0.0
+        return 0.5 * (1 - math.cos(math.pi * t / tr)), 0.5 * math.pi / tr * math.sin(math.pi * t / tr)
+
+    def _unit(self):
+        d = np.asarray(self.direction, float)
+        return d / np.linalg.norm(d)
+
+    def _signal(self):
+        """(b_n, omega_n, phi_n, b_n omega_n, the unit axis), computed once."""
+        if self._terms is None:
+            w = self.wave_components
+            b = self._coefficients(w)
+            self._terms = (b, w.omegas, w.phases, b * w.omegas, self._unit())
+        return self._terms
+
+    def kinematics(self, t):
+        """(displacement [m], velocity [m/s]) at time t [s], 3-vectors along `direction`."""
+        b, omega, phi, bw, e = self._signal()
+        r, dr = self._ramp_factor(t)
+        t = max(t, 0.0)
+        arg = omega * t + phi
+        s = float(np.dot(b, np.sin(arg)))
+        c = float(np.dot(bw, np.cos(arg)))
+        return e * (r * s), e * (dr * s + r * c)
+
+    def elevation(self, x, t):
+        """The linear target elevation eta(x, t) = sum_n a_n cos(omega_n t - k_n x + phi_n) [m] at the distance
+        `x` [m] in front of the paddle's rest position, at the times `t` [s] (array_like), without the ramp:
+        the far field of the paddle once the ramp has passed x, the theoretical record of a gauge there."""
+        return self.wave_components.elevation(x, t)
+
+    def _sampled(self):
+        """(dt, s, c): the unramped displacement s_j = sum_n b_n sin(omega_n t_j + phi_n) and velocity c_j =
+        sum_n b_n omega_n cos(omega_n t_j + phi_n) at t_j = j dt over one repeat period T = M dt,
+        M = 2 ceil(10 n_max) (20 samples or more a period of the fastest component, n_max df its frequency),
+        each by an inverse FFT (f_n = n df: a sum of cos(2 pi n j / M + psi_n))."""
+        if self._grid is None:
+            w = self.wave_components
+            b = self._signal()[0]
+            n = np.rint(w.frequencies / w.df).astype(np.int64)
+            m = 2 * int(math.ceil(_SAMPLES_PER_PERIOD / 2 * max(int(n.max()), 1)))
+            out = []
+            for coef, shift in ((b, -0.5 * math.pi), (b * w.omegas, 0.0)):  # sin(u) = cos(u - pi/2)
+                spectrum = np.zeros(m // 2 + 1, complex)
+                np.add.at(spectrum, n, 0.5 * m * coef * np.exp(1j * (w.phases + shift)))
+                out.append(np.fft.irfft(spectrum, m))
+            self._grid = (w.repeat_period / m, out[0], out[1])
+        return self._grid
+
+    def _speed_times(self, t_end):
+        """Times t_j = j dt (`_sampled`: 20 or more a period of the fastest component) from 0 to the end of the
+        ramp and one repeat period after it (the signal is periodic past the ramp), up to `t_end`."""
+        dt, s, _ = self._sampled()
+        last = min(float(t_end), self.ramp + self.repeat_period)
+        if last < 0:
+            return np.empty(0)
+        return np.arange(int(math.floor(last / dt)) + 1) * dt
+
+    def peak_speed(self, t_end):
+        """The largest speed [m/s] over 0 <= t <= `t_end` [s] at the times `_speed_times` gives and at the
+        middle of the ramp: the ramp r(t) and its derivative times the sampled periodic signal, within about
+        1 % (the sampling's)."""
+        dt, s, c = self._sampled()
+        t = self._speed_times(t_end)
+        if not len(t):
+            return 0.0
+        j = np.arange(len(t)) % len(s)
+        tr = self.ramp
+        x = np.clip(t, 0.0, tr) / tr if tr > 0 else np.ones_like(t)
+        r = 0.5 * (1.0 - np.cos(math.pi * x))
+        dr = np.zeros_like(t)
+        inside = (x > 0.0) & (x < 1.0)
+        dr[inside] = 0.5 * math.pi / tr * np.sin(math.pi * x[inside])
+        peak = float(np.max(np.abs(dr * s[j] + r * c[j])))
+        if 0.0 < 0.5 * tr <= t_end:  # the middle of the ramp, where r' peaks (a ramp shorter than dt included)
+            peak = max(peak, float(np.linalg.norm(self.kinematics(0.5 * tr)[1])))
+        return peak
+
+    @property
+    def max_displacement(self):
+        """The largest |X(t)| [m] of the paddle over all times (the ramp only lessens it), sampled as
+        `peak_speed` samples the velocity: leave this much room behind the paddle's rest position."""
+        return float(np.max(np.abs(self._sampled()[1])))
+
+
+class IrregularWaves(SpectralPaddle):
+    """A piston paddle making a random sea of `spectrum` in water of `depth` d [m] (`SpectralPaddle`).
+
+    The components: `components` N over the band [`f_min` fp, `f_max` fp], fp the spectrum's peak frequency,
+    amplitudes a_n = sqrt(2 S(f_n) df) (rescaled so that sum a_n^2 / 2 = m0 with `rescale`), phases uniformly
+    random from ``numpy.random.default_rng(seed)``, and Rayleigh amplitudes with `random_amplitudes`
+    (`shoal.waves.random_phase_components`). A significant height above the breaking limit of Miche (1944) at
+    the peak period, Hs > 0.142 Lp tanh(kp d), is refused.
+    """
+
+    type: Literal["irregular"] = "irregular"
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+    random_amplitudes: Annotated[bool, Field(strict=True)] = False
+    rescale: Annotated[bool, Field(strict=True)] = True
+
+    def _make_components(self):
+        return random_phase_components(self.spectrum, self.depth, self.components, self.f_min, self.f_max,
+                                       self.seed, self.random_amplitudes, self.rescale)
+
+    @model_validator(mode="after")
+    def _a_sea_that_exists(self):
+        """Refuse a band, a spectrum or a depth that gives no finite signal, and Hs above Miche's limit."""
+        fp = self.spectrum.peak_frequency
+        self._check_components()
+        hs = self.spectrum.hm0
+        h_max, length = self._miche_height(fp)
+        if hs > h_max:
+            raise ValueError(f"the spectrum's Hs = {hs:.3g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
+                             f"{h_max:.3g} m (Miche 1944) of the peak period {1.0 / fp:.3g} s in {self.depth:g} m of "
+                             f"water (L = {length:.3g} m): most of its waves would break at the paddle; give a "
+                             "lower Hs or a longer peak period")
+        return self
+
+
+class FocusedWaves(SpectralPaddle):
+    """A piston paddle making a focused wave group (NewWave, Tromans et al. 1991): every component crests at
+    `x_focus` [m] in front of the paddle at `t_focus` [s], where the linear elevation is `amplitude` A [m]
+    (`SpectralPaddle`).
+
+    The components: `components` N over the band [`f_min` fp, `f_max` fp], amplitudes a_n = A S(f_n) df /
+    sum S df (the spectrum gives the shape; its Hs does not matter) and phases phi_n = k_n x_focus - omega_n
+    t_focus (`shoal.waves.focused_components`). Refused: t_focus before the slowest component, started at the
+    end of the ramp, can reach x_focus (t_focus < t_r + x_focus / min c_g), and 2 A above the breaking limit
+    of Miche (1944) at the peak period. The group focuses again every repeat period.
+    """
+
+    type: Literal["focused"] = "focused"
+    amplitude: PositiveReal
+    x_focus: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
+    t_focus: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
+
+    def _make_components(self):
+        return focused_components(self.spectrum, self.depth, self.amplitude, self.x_focus, self.t_focus,
+                                  self.components, self.f_min, self.f_max)
+
+    @model_validator(mode="after")
+    def _a_group_that_exists(self):
+        """Refuse a band, a spectrum or a depth that gives no finite signal, a focus too high or too early."""
+        fp = self.spectrum.peak_frequency
+        waves = self._check_components()
+        h_max, length = self._miche_height(fp)
+        if 2.0 * self.amplitude > h_max:
+            raise ValueError(f"amplitude = {self.amplitude:g} m makes a wave of height about {2 * self.amplitude:.3g} "
+                             f"m at the focus, above the breaking limit H_max = 0.142 L tanh(kd) = {h_max:.3g} m "
+                             f"(Miche 1944) of the peak period {1.0 / fp:.3g} s in {self.depth:g} m of water "
+                             f"(L = {length:.3g} m); give an amplitude of at most {0.5 * h_max:.3g} m")
+        cg = group_velocity(waves.wavenumbers, self.depth)
+        slow = int(np.argmin(cg))
+        ramp = self.ramp_time if self.ramp_time is not None else min(2.0 / fp, waves.repeat_period)
+        earliest = ramp + self.x_focus / float(cg[slow])
+        if self.t_focus < earliest:
+            raise ValueError(f"t_focus = {self.t_focus:g} s is too early: the slowest component "
+                             f"({waves.frequencies[slow]:.3g} Hz, group velocity {cg[slow]:.3g} m/s) leaves the "
+                             f"paddle at the end of the ramp, {ramp:.3g} s, and reaches x_focus = {self.x_focus:g} m "
+                             f"at {earliest:.3g} s; give t_focus >= {earliest:.3g} s")
+        return self
+
+
+AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion, IrregularWaves,
+                            FocusedWaves], Field(discriminator="type")]
 
 
 def check_motion_speeds(motions, c0, t_end):
