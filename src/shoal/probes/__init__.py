@@ -588,17 +588,25 @@ def shoreline_columns(positions, kinds, dim, spec, dp, ylim):
     return counts.reshape(ny, nx), zmin.reshape(ny, nx), xland.reshape(ny, nx)
 
 
+SHORELINE_TIE = 1e-3
+"""Shoreline elevations of two rows of columns closer than this many dp are level (`shoreline`): a
+thousandth of a particle spacing is far above the round-off of positions (1e-6 dp in float32) and far
+below anything a gauge resolves."""
+
+
 def shoreline(counts, zmin, xland, dim, spec, dp, ylim):
     """(zmax, x, y) [m] of a `RunupGauge` with `min_depth` from its columns (`shoreline_columns`, summed
     over the ranks): in each row of columns, the landward end of the unbroken run of wet columns (layer
     N dp**dim / dp**(dim - 1) >= min_depth) that starts at the first wet column on the seaward side,
     bridging dry stretches of up to floor(max_gap / dp) columns; the highest over the rows; NaNs when
-    no column is wet."""
+    no column is wet. Rows within `SHORELINE_TIE` dp of the highest are level with it, and the first of
+    them (smallest y) is the one reported: in a flow uniform in y the rows' shorelines differ by round-off
+    only, which would otherwise pick the row (and differ between a run on one process and on several)."""
     nan = float("nan")
     wet = counts * dp >= spec.min_depth
     if spec.landward == "-x":
         wet, zmin, xland = wet[:, ::-1], zmin[:, ::-1], xland[:, ::-1]
-    best = (nan, nan, nan)
+    rows = []
     for r in range(wet.shape[0]):
         cols = np.flatnonzero(wet[r])
         if not len(cols):
@@ -611,11 +619,12 @@ def shoreline(counts, zmin, xland, dim, spec, dp, ylim):
                 break
             k = j
         z = float(zmin[r, k]) - 0.5 * dp
-        if np.isnan(best[0]) or z > best[0]:
-            x = float(xland[r, k]) * (1.0 if spec.landward == "+x" else -1.0)
-            y = ylim[0] + (r + 0.5) * dp if dim == 3 else 0.0
-            best = (z, x, y)
-    return best
+        x = float(xland[r, k]) * (1.0 if spec.landward == "+x" else -1.0)
+        rows.append((z, x, ylim[0] + (r + 0.5) * dp if dim == 3 else 0.0))
+    if not rows:
+        return (nan, nan, nan)
+    top = max(z for z, _, _ in rows)
+    return next(row for row in rows if row[0] >= top - SHORELINE_TIE * dp)
 
 
 class ForceRecorder(Recorder):
