@@ -30,6 +30,7 @@ ROUND_TRIP = {
     "still-water-3d": dict(dp=0.05),
     "wave-flume-2d": dict(dp=0.04),
     "wave-flume-3d": dict(dp=0.08),
+    "wave-basin-2d": dict(dp=0.04, length=4.5),
     # 0.03 is refused by the case itself ("too coarse: ... use dp <= 0.025 m")
     "tidal-bore": dict(dp=0.025),
     "tidal-bore-piers": dict(dp=0.025),

@@ -7,7 +7,7 @@
     shoal check CASE | FILE.toml     validate; print particle counts, memory and the time step
     shoal new NAME [-o FILE.toml]    write a commented case file of a built-in case to start from
     shoal plot-case CASE | FILE.toml [-o FILE.png]
-    shoal post RUN_DIR [--gauges] [--mean-flow] [--tracks] [--plane AXIS=VALUE] [--out DIR]
+    shoal post RUN_DIR [--gauges] [--spectra] [--mean-flow] [--tracks] [--plane AXIS=VALUE] [--out DIR]
     shoal validate [CASE ...] [--quick | --full] [--backend cpu|cuda] [--out DIR]
     shoal validate --report-only [CASE ...] --from DIR [--from DIR ...] --out DIR   merge saved results
     shoal cases
@@ -100,6 +100,11 @@ def build_parser():
     po.add_argument("run_dir", help="output directory of a run")
     po.add_argument("--out", default=None, help="folder for the PNGs (default: RUN_DIR/post)")
     po.add_argument("--gauges", action="store_true", help="time series of the gauge, max-z, run-up and probe files")
+    po.add_argument("--spectra", action="store_true",
+                    help="wave spectra of the gauges (Welch) against the paddle's target spectrum; Hm0, Tp, Tm01, "
+                         "Tm02 in spectra.json")
+    po.add_argument("--segment", type=_positive_float("--segment"), default=None, metavar="SECONDS",
+                    help="Welch segment length of --spectra (default: a quarter of the record)")
     po.add_argument("--mean-flow", action="store_true",
                     help="period-mean current, set-up and profiles from the test-point grids")
     po.add_argument("--tracks", action="store_true", help="trajectories of the tracked particles")
@@ -109,7 +114,8 @@ def build_parser():
     po.add_argument("--period", type=_positive_float("--period"), default=None,
                     help="averaging period [s] (default: the case's piston period, else the whole record)")
     po.add_argument("--periods", type=int, default=None, help="average over the last N periods (default: all)")
-    po.add_argument("--start", type=float, default=None, help="ignore the record before this time [s]")
+    po.add_argument("--start", type=float, default=None,
+                    help="ignore the record before this time [s] (spectra: default the paddle's ramp)")
     po.add_argument("--isosurface", action="store_true",
                     help="the free surface of every snapshot as a mesh (VTK, ParaView): isosurface/ in the output "
                          "folder (only when asked for)")
@@ -396,7 +402,7 @@ def cmd_post(args):
     written = post(args.run_dir, out=args.out, gauges=args.gauges, mean_flow=args.mean_flow, tracks=args.tracks,
                    plane=args.plane, time=args.time, period=args.period, periods=args.periods, start=args.start,
                    isosurface=args.isosurface, iso_spacing=args.iso_spacing, iso_level=args.iso_level,
-                   backend=args.backend)
+                   backend=args.backend, spectra=args.spectra, segment=args.segment)
     pngs = sum(p.suffix == ".png" for p in written)
     print(f"shoal: wrote {pngs} PNG(s)" + (f" and {len(written) - pngs} iso-surface file(s)" if args.isosurface
                                            else "") + ":")

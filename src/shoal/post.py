@@ -15,6 +15,10 @@ state) to an output folder, returning the paths written:
   (set-up) in plan (Fig. 8), and vertical profiles of the mean u at a few
   columns (Fig. 11); a 2D grid (ny = 1) gets an x-z section of the mean
   (u, w) instead of the plan views;
+* `plot_spectra`: the variance density spectrum of every ``gauge_*.csv``
+  (Welch's method, `shoal.analysis.wave_spectrum`) against the target
+  spectrum of the case's ``irregular`` or ``focused`` paddle, with Hm0, Tp,
+  Tm01 and Tm02 (also written to ``spectra.json``);
 * `plot_tracks`: particle trajectories from ``track_*.csv`` (plan view x-y
   in 3D, x-z in 2D; Fig. 12);
 * `plot_plane`: the velocity magnitude of the fluid particles within dp of
@@ -40,8 +44,8 @@ import numpy as np
 from .errors import InputError
 from .output.atomic import replace_file
 
-__all__ = ["post", "plot_gauges", "plot_mean_flow", "plot_tracks", "plot_plane", "mean_flow", "parse_plane",
-           "surface_levels", "run_info"]
+__all__ = ["post", "plot_gauges", "plot_spectra", "plot_mean_flow", "plot_tracks", "plot_plane", "mean_flow",
+           "parse_plane", "surface_levels", "run_info", "spectral_paddle"]
 
 GAUGE_PATTERNS = ("gauge_*.csv", "maxz_*.csv", "runup_*.csv", "probe_*.csv", "flow_*.csv", "force_*.csv",
                   "pressure_*.csv")
@@ -223,6 +227,126 @@ def plot_gauges(run_dir, out):
             axes[0].set_title(f"{info['name']}: {path.name}")
             fig.tight_layout()
             written.append(_save(fig, out / f"{path.stem}.png"))
+    return written
+
+
+# ------------------------------------------------------------------ spectra
+SPECTRAL_MOTIONS = ("irregular", "focused")
+"""Motion types whose waves have a target spectrum (`shoal.motions.IrregularWaves`, `FocusedWaves`)."""
+
+_MIN_SAMPLES = 32
+"""Samples a record needs for Welch's default segments (a quarter of the record, 8 samples at least)."""
+
+
+def spectral_paddle(run_dir):
+    """The first ``irregular`` or ``focused`` motion of a run's ``case.toml``, built as its
+    `shoal.motions` object, or None (no such motion, or one this shoal cannot build: a spectrum file
+    that has moved, a newer case format)."""
+    from pydantic import ValidationError
+
+    from .casefile import MOTIONS
+
+    run_dir = Path(run_dir)
+    try:
+        case = tomllib.loads((run_dir / "case.toml").read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return None
+    for m in case.get("motions", []) or []:
+        if isinstance(m, dict) and m.get("type") in SPECTRAL_MOTIONS:
+            spec = dict(m)
+            sp = spec.get("spectrum")
+            if isinstance(sp, dict) and sp.get("type") == "file" and isinstance(sp.get("file"), str):
+                spec["spectrum"] = dict(sp, file=str((run_dir / sp["file"]).resolve()))
+            try:
+                return MOTIONS[m["type"]].model_validate(spec)
+            except (ValidationError, InputError, OSError, ValueError):
+                return None
+    return None
+
+
+def plot_spectra(run_dir, out, start=None, segment=None):
+    """Variance density spectra of the run's wave gauges against the target spectrum.
+
+    For each ``gauge_*.csv`` the elevation record from `start` to its end is analysed by Welch's
+    method (`shoal.analysis.wave_spectrum`: Hann-tapered segments of `segment` seconds overlapping by
+    half) and drawn with the target density S(f) of the case's ``irregular`` or ``focused`` paddle
+    (`spectral_paddle`), its measured Hm0 = 4 sqrt(m0), Tp, Tm01 = m0 / m1 and Tm02 = sqrt(m0 / m2)
+    (IAHR 1989) in the legend. The same numbers go to ``spectra.json`` in `out`: per gauge ``Hm0``,
+    ``Tp``, ``Tm01``, ``Tm02`` [m, s], the window ``t0``, ``t1`` [s], ``df`` [Hz] and the degrees of
+    freedom ``dof``, and the target's ``Hs`` and ``Tp``.
+
+    Parameters
+    ----------
+    run_dir : str or os.PathLike
+        The run directory holding ``gauge_*.csv``.
+    out : str or os.PathLike
+        Folder for the PNGs and ``spectra.json`` (created if missing).
+    start : float, optional
+        Ignore the records before this time [s]. Default: the paddle's start-up ramp (its
+        ``ramp_time``, two peak periods unless set), or 0 without a spectral paddle.
+    segment : float, optional
+        Welch segment length [s] (resolution 1 / segment); default a quarter of the window.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNGs (``spectrum_<gauge>.png``) and ``spectra.json``; empty when no gauge file holds
+        a record long enough for two segments after `start`.
+
+    Raises
+    ------
+    InputError
+        A record that cannot be analysed other than by being too short (NaN elevations, times that
+        do not increase).
+    """
+    from .analysis import wave_spectrum
+
+    run_dir, out = Path(run_dir), Path(out)
+    info = run_info(run_dir)
+    paddle = spectral_paddle(run_dir)
+    target = paddle.spectrum if paddle is not None else None
+    t_start = float(start) if start is not None else (paddle.ramp if paddle is not None else 0.0)
+    written, table = [], {}
+    for path in sorted(run_dir.glob("gauge_*.csv")):
+        header, data = _read_csv(path)
+        if len(data) == 0 or not header or header[0] != "time" or "level" not in header:
+            continue
+        t, z = data[:, 0], data[:, header.index("level")]
+        keep = t >= t_start
+        if np.count_nonzero(keep) < _MIN_SAMPLES:
+            continue  # too short for Welch's default segments: nothing to plot yet
+        try:
+            sp = wave_spectrum(t[keep], z[keep], segment=segment)
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+        name = path.stem.partition("_")[2]
+        row = {"Hm0": sp.Hm0, "Tp": sp.Tp, "Tm01": sp.Tm01, "Tm02": sp.Tm02, "t0": float(t[keep][0]),
+               "t1": float(t[keep][-1]), "df": sp.df, "dof": sp.dof}
+        fig = _figure(8.0, 4.5)
+        ax = fig.subplots()
+        ax.plot(sp.f, sp.S, lw=1.2, label=f"measured: Hm0 = {sp.Hm0:.4g} m, Tp = {sp.Tp:.3g} s, "
+                                          f"Tm01 = {sp.Tm01:.3g} s, Tm02 = {sp.Tm02:.3g} s")
+        f_hi = float(sp.f[-1])
+        if target is not None:
+            fp = target.peak_frequency
+            f_hi = min(f_hi, 3.5 * fp)
+            f = np.linspace(0.0, f_hi, 800)[1:]
+            ax.plot(f, target.density(f), "k--", lw=1.0,
+                    label=f"target {target.type}: Hs = {target.hm0:.4g} m, Tp = {1.0 / fp:.3g} s")
+            row.update(target_Hs=float(target.hm0), target_Tp=float(1.0 / fp))
+        ax.set_xlim(0.0, f_hi)
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("S(f) [m$^2$/Hz]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="small")
+        ax.set_title(f"{info['name']}: {path.name}, {row['t0']:.4g}-{row['t1']:.4g} s, "
+                     f"{sp.segments} segments, df = {sp.df:.3g} Hz")
+        fig.tight_layout()
+        written.append(_save(fig, out / f"spectrum_{name}.png"))
+        table[name] = row
+    if table:
+        text = json.dumps({"start": t_start, "gauges": table}, indent=2) + "\n"
+        written.append(replace_file(out / "spectra.json", lambda tmp: Path(tmp).write_text(text, encoding="utf-8")))
     return written
 
 
@@ -775,11 +899,13 @@ def plot_plane(run_dir, out, plane="mid", time=None):
 
 # ------------------------------------------------------------------ all
 def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=None, time=None, period=None,
-         periods=None, start=None, isosurface=False, iso_spacing=None, iso_level=0.5, backend="cpu"):
+         periods=None, start=None, isosurface=False, iso_spacing=None, iso_level=0.5, backend="cpu", spectra=False,
+         segment=None):
     """Make the standard plots of a finished run (``shoal post``).
 
-    With no selector (`gauges`, `mean_flow`, `tracks`, `plane`), every plot
-    that applies to the files present (the plane plot on the ``mid`` plane).
+    With no selector (`gauges`, `spectra`, `mean_flow`, `tracks`, `plane`), every
+    plot that applies to the files present (the plane plot on the ``mid`` plane,
+    the spectra when the case has an ``irregular`` or ``focused`` paddle).
     A selector whose files are missing is an error. The free-surface meshes
     (`isosurface`) are made only when asked for.
 
@@ -791,12 +917,16 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
         Folder for the PNGs (default ``run_dir / "post"``).
     gauges, mean_flow, tracks : bool
         Select `plot_gauges`, `plot_mean_flow`, `plot_tracks`.
+    spectra : bool
+        Select `plot_spectra`.
     plane : str, optional
         Select `plot_plane` on this plane.
     time : float, optional
         Snapshot time for the plane plot [s].
     period, periods, start
-        The mean-flow averaging window (`plot_mean_flow`).
+        The mean-flow averaging window (`plot_mean_flow`); `start` also starts the spectra's window.
+    segment : float, optional
+        Welch segment length of the spectra [s] (`plot_spectra`).
     isosurface : bool
         Also write the free surface of every snapshot as a mesh
         (`shoal.output.isosurface.write_isosurfaces`: ``isosurface/`` in
@@ -823,28 +953,37 @@ def post(run_dir, out=None, gauges=False, mean_flow=False, tracks=False, plane=N
             "mean_flow": any(run_dir.glob("testpoints_*.nc")),
             "tracks": any(run_dir.glob("track_*.csv")),
             "plane": bool(_snapshots(run_dir))}
+    have["spectra"] = any(run_dir.glob("gauge_*.csv"))
     if not any(have.values()):
         raise InputError(f"{run_dir} holds no shoal run output (gauge, probe, test-point, track or snapshot "
                          "files)")
-    chosen = {"gauges": gauges, "mean_flow": mean_flow, "tracks": tracks, "plane": plane is not None}
+    chosen = {"gauges": gauges, "mean_flow": mean_flow, "tracks": tracks, "plane": plane is not None,
+              "spectra": spectra}
     if isosurface and not have["plane"]:
         raise InputError(f"{run_dir} holds no snapshots (.pvd + .vtu) for --isosurface")
     what = {"gauges": "gauge_*.csv, maxz_*.csv, runup_*.csv, probe_*.csv, flow_*.csv, force_*.csv or pressure_*.csv files",
             "mean_flow": "testpoints_*.nc test-point grids", "tracks": "track_*.csv files",
-            "plane": "snapshots (.pvd + .vtu)"}
+            "plane": "snapshots (.pvd + .vtu)", "spectra": "gauge_*.csv files"}
     if any(chosen.values()) or isosurface:  # selectors (--isosurface alone: the meshes only)
         for k, on in chosen.items():
             if on and not have[k]:
                 raise InputError(f"{run_dir} holds no {what[k]} for --{k.replace('_', '-')}")
         todo = chosen
     else:
-        todo = have
+        todo = dict(have, spectra=have["spectra"] and spectral_paddle(run_dir) is not None)
     if plane is not None:
         parse_plane(plane)  # a bad spec fails before any plotting
     out = Path(out) if out is not None else run_dir / "post"
     written = []
     if todo["gauges"]:
         written += plot_gauges(run_dir, out)
+    if todo["spectra"]:
+        spectra_written = plot_spectra(run_dir, out, start, segment)
+        if spectra and not spectra_written:
+            after = f"t = {start:g} s" if start is not None else "the paddle's ramp"
+            raise InputError(f"{run_dir}: no gauge record is long enough for a spectrum after {after} "
+                             f"({_MIN_SAMPLES} samples at least); run longer or give an earlier --start")
+        written += spectra_written
     if todo["mean_flow"]:
         written += plot_mean_flow(run_dir, out, period, periods, start)
     if todo["tracks"]:

@@ -8,6 +8,7 @@ from .dam_break import dam_break_2d, dam_break_3d, dam_break_dualsphysics
 from .rip_current import rip_current
 from .still_water import still_water_2d, still_water_3d
 from .tidal_bore import tidal_bore, tidal_bore_piers
+from .wave_basin import wave_basin_2d
 from .wave_flume import wave_flume_2d, wave_flume_3d
 
 CASES = {
@@ -18,6 +19,7 @@ CASES = {
     "still-water-3d": still_water_3d,
     "wave-flume-2d": wave_flume_2d,
     "wave-flume-3d": wave_flume_3d,
+    "wave-basin-2d": wave_basin_2d,
     "tidal-bore": tidal_bore,
     "tidal-bore-piers": tidal_bore_piers,
     "rip-current": rip_current,
@@ -46,5 +48,6 @@ def get_case(name, **kwargs):
 
 
 __all__ = ["CASES", "get_case", "case_parameters", "dam_break_2d", "dam_break_3d", "dam_break_dualsphysics",
-           "still_water_2d", "still_water_3d", "wave_flume_2d", "wave_flume_3d", "tidal_bore", "tidal_bore_piers",
+           "still_water_2d", "still_water_3d", "wave_flume_2d", "wave_flume_3d", "wave_basin_2d", "tidal_bore",
+           "tidal_bore_piers",
            "rip_current"]
