@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_dambreak.py"
 
 
@@ -38,3 +40,33 @@ def test_bench_bad_input_is_one_line_exit_2():
     assert out.returncode == 2
     assert out.stderr.count("\n") == 1 and out.stderr.startswith("bench_dambreak: error: dp = 0.05 m is too coarse")
     assert out.stdout == ""
+
+
+REGRESSION = SCRIPT.parent / "regression.py"
+
+
+def test_regression_script_runs_base_and_tree_abba(tmp_path):
+    """`benchmarks/regression.py` (issue 34 item 5): the base commit (here HEAD) and the working tree,
+    compiled by a first run each, then timed base, tree, tree, base; the ratio printed is the sum of the
+    tree's particle-steps/s over the base's."""
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=SCRIPT.parents[1], capture_output=True, text=True)
+    if head.returncode != 0:
+        pytest.skip("not a git checkout: the script compares with a commit")
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    out = subprocess.run([sys.executable, str(REGRESSION), "--dp", "0.03", "--steps", "2", "--warmup", "1",
+                          "--json", str(tmp_path / "r.json")], capture_output=True, text=True, env=env, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    r = json.loads((tmp_path / "r.json").read_text())
+    assert r["base_commit"] == head.stdout.strip()
+    assert [x["tree"] for x in r["runs"]] == ["base", "tree", "tree", "base"]
+    speeds = {k: sum(x["particle_steps_per_second"] for x in r["runs"] if x["tree"] == k) for k in ("base", "tree")}
+    assert r["ratio"] == speeds["tree"] / speeds["base"]
+    assert f"tree / base (HEAD = {r['base_commit'][:10]}): {r['ratio']:.3f}" in out.stdout
+    assert len({x["particles"] for x in r["runs"]}) == 1
+
+
+def test_regression_script_bad_base_is_one_line_exit_2():
+    out = subprocess.run([sys.executable, str(REGRESSION), "--base", "no-such-rev-x", "--dp", "0.03"],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 2 and out.stderr.count("\n") == 1
+    assert out.stderr.startswith("regression.py: error: --base 'no-such-rev-x' is not a commit")

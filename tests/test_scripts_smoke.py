@@ -3,9 +3,9 @@ runs it (``python SCRIPT ...``, one Numba thread) on the smallest problem it acc
 and what it prints or writes is parsed and checked, so that none of them rots unnoticed between the
 long runs they are written for.
 
-Covered elsewhere: ``benchmarks/bench_dambreak.py`` (tests/test_benchmark_script.py),
-``benchmarks/readme_tables.py`` (tests/test_docs_numbers.py), ``benchmarks/refcounts.py``
-(tests/test_refcounts.py).
+Covered elsewhere: ``benchmarks/bench_dambreak.py`` and ``benchmarks/regression.py``
+(tests/test_benchmark_script.py), ``benchmarks/readme_tables.py`` (tests/test_docs_numbers.py),
+``benchmarks/refcounts.py`` (tests/test_refcounts.py).
 
 Cost: the scripts share a few compiled schemes (the 2D dam break's defaults, the wave flumes' options, the
 tidal bore's paper scheme, the 3D dam breaks, SPHERIC Test 2's walls), most of which the rest of the suite
