@@ -354,6 +354,80 @@ def test_adami_wall_pressure_matches_cpu():
         assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a)), name
 
 
+def _flap_pair(precision, wall_pressure):
+    """CPU and CUDA models of a small 2D tank whose left wall is a flap hinged at the bed (a few hundred
+    particles for the simulator)."""
+    from shoal.case import Case, Fluid, FluidRegion, Solid
+    from shoal.geometry.shapes import Box, Tank
+    from shoal.motions import FlapWavemaker
+
+    case = Case(name="flap", dim=2, dp=0.025, fluid=Fluid(depth=0.1, surface_level=0.1),
+                options={"precision": precision, "wall_pressure": wall_pressure},
+                solids=[Solid(shape=Box(lo=(-0.05, 0, 0), hi=(0.0, 0, 0.15)), motion="flap", layers=2),
+                        Solid(shape=Tank(lo=(-0.15, 0, 0), hi=(0.35, 0, 0.15)), layers=2)],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.35, 0, 0.1)))],
+                motions=[FlapWavemaker(name="flap", height=0.02, period=0.6, depth=0.1, ramp_periods=0.0)])
+    return case, build_model(case, "cpu"), build_model(case, "cuda")
+
+
+@needs_cuda
+@pytest.mark.parametrize("precision,tol", [("float64", 1e-9), ("float32", 1e-4)])
+def test_rotating_flap_and_its_adami_pressure_match_cpu(precision, tol):
+    """A flap rotating about its hinge (`shoal.physics.body_motion`), at a time where its angular velocity
+    and acceleration are both large: the same wall positions (1e-12 m, float64 on both backends) and
+    velocities, and the Adami wall pressure with each particle's own acceleration a_d + alpha x r +
+    omega x (omega x r), then the rates, on the CUDA backend as on the CPU."""
+    case, cpu, gpu = _flap_pair(precision, "adami")
+    rng = np.random.default_rng(5)
+    rho = cpu.host(cpu.rho).astype(np.float64)
+    fl = cpu.host(cpu.kind) == 0
+    rho[fl] *= 1 + 2e-3 * rng.standard_normal(fl.sum())
+    cpu.rho[:] = rho.astype(cpu.dtype)
+    gpu.rho.copy_to_device(rho.astype(cpu.dtype))
+    t = 0.2  # theta' and theta'' both a good part of their amplitude
+    th, w, al = case.motions[0].angle(t)
+    assert abs(w) > 0.3 and abs(al) > 2.0
+    for m in (cpu, gpu):
+        m.move_bodies(t)
+        m.sort()
+        m.compute_rates()
+    moving = _by_id(cpu, cpu.kind) == 2
+    pc, pg = _by_id(cpu, cpu.pos), _by_id(gpu, gpu.pos)
+    assert np.max(np.abs(pc[moving] - pg[moving])) < 1e-12
+    vc, vg = _by_id(cpu, cpu.vel), _by_id(gpu, gpu.vel)
+    assert np.max(np.abs(vc[moving])) > 0.02
+    assert np.max(np.abs(vc[moving] - vg[moving])) <= tol * np.max(np.abs(vc[moving]))
+    walls = _by_id(cpu, cpu.kind) != 0
+    a, b = _by_id(cpu, cpu.rho), _by_id(gpu, gpu.rho)
+    assert np.max(np.abs(a[walls] - rho[walls])) > 0.1  # the pass set the walls' densities
+    assert np.max(np.abs(a - b)) <= tol * 1000.0
+    for name in ("ace", "drho"):
+        a, b = _by_id(cpu, getattr(cpu, name)), _by_id(gpu, getattr(gpu, name))
+        assert np.max(np.abs(a - b)) <= tol * np.max(np.abs(a)), name
+
+
+@needs_cuda
+@pytest.mark.parametrize("precision,tol", [("float64", 1e-9), ("float32", 1e-4)])
+def test_rotating_flap_mdbc_ghost_vectors_match_cpu(precision, tol):
+    """mDBC walls on a rotating flap: its ghost vectors turned by R(t) (`make_wall_vector_rotation`), the
+    walls' densities and no-slip-free rates from them, the same on both backends."""
+    case, cpu, gpu = _flap_pair(precision, "mdbc")
+    n = cpu.ghost_of.shape[0]
+    moving = np.flatnonzero(case.particles().kinds == 2) - cpu.ghost_id0
+    g0 = cpu.host(cpu.ghost_of, 0, n)[moving].astype(np.float64)  # at t = 0 (R = I)
+    for m in (cpu, gpu):
+        m.move_bodies(0.2)
+        m.sort()
+        m.compute_rates()
+    gc, gg = cpu.host(cpu.ghost_of, 0, n), gpu.host(gpu.ghost_of, 0, n)
+    R = case.motions[0].rigid_kinematics(0.2).rotation[np.ix_([0, 2], [0, 2])]
+    np.testing.assert_allclose(gc[moving], g0 @ R.T, rtol=0, atol=tol * 0.1 * cpu.dp)
+    assert np.max(np.abs(gc - gg)) <= tol * cpu.dp
+    for name in ("rho", "ace", "drho"):
+        a, b = _by_id(cpu, getattr(cpu, name)), _by_id(gpu, getattr(gpu, name))
+        assert np.max(np.abs(a - b)) <= tol * np.max(np.abs(a)), name
+
+
 def _mdbc_pair(dim, precision):
     """CPU and CUDA models of a small tank with mDBC walls and no-slip (2D: the dam break of `_pair`;
     3D: a 0.1 x 0.06 x 0.1 m tank, dp = 0.02 m, a few hundred particles for the simulator)."""

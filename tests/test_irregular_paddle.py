@@ -231,8 +231,8 @@ def test_a_fast_paddle_is_warned_about_like_any_wall():
 def test_python_construction_refuses_with_the_reason():
     ok = dict(name="i", spectrum=JONSWAP, depth=0.5)
     for bad, fragment in [
-        (dict(paddle="flap"), "a flap rotates about its hinge"),
-        (dict(paddle="wedge"), "not a paddle type; allowed: 'piston'"),
+        (dict(paddle="flap", hinge=0.5), "hinge = 0.5 m is not below the still-water level"),
+        (dict(paddle="wedge"), "not a paddle type; allowed: 'piston', 'flap'"),
         (dict(f_min=2.0, f_max=1.0), "f_min = 2 is not below f_max = 1"),
         (dict(components=0), "greater than or equal to 1"),
         (dict(components=40000), "less than or equal to 32768"),
@@ -307,8 +307,8 @@ FOCUSED = ('\n[[motions]]\ntype = "focused"\nname = "f"\ndepth = 0.3\namplitude 
            't_focus = 40.0\nspectrum = { type = "pierson_moskowitz", hs = 0.03, tp = 1.2 }\n')
 
 CORPUS = [
-    ("flap", IRREGULAR + 'paddle = "flap"\n', ["motions[0].paddle = 'flap' is not available yet",
-                                                "rotates about its hinge", "use paddle = 'piston'"]),
+    ("paddle-unknown", IRREGULAR + 'paddle = "wedge"\n', ["motions[0].paddle = 'wedge' is not a paddle type",
+                                                           "allowed: 'piston', 'flap'"]),
     ("hs-above-miche", IRREGULAR.replace("hs = 0.03", "hs = 0.3"),
      ["motions[0]: the spectrum's Hs = 0.3 m is above the breaking limit", "Miche 1944", "0.198 m"]),
     ("band-empty", IRREGULAR + "f_min = 3.0\nf_max = 3.0\n", ["f_min = 3 is not below f_max = 3"]),

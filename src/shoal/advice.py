@@ -11,9 +11,9 @@ adds the motions fast enough to compress the fluid.
 
 from __future__ import annotations
 
-WAVE_MOTIONS = ("piston", "solitary", "irregular", "focused")
+WAVE_MOTIONS = ("piston", "solitary", "irregular", "focused", "flap")
 """Motion types that make waves (`shoal.motions.PistonWavemaker`, `SolitaryPiston`, `IrregularWaves`,
-`FocusedWaves`)."""
+`FocusedWaves`, `FlapWavemaker`)."""
 
 ALPHA_FOR_WAVES = 0.01
 """Artificial viscosity above which a wave case is warned about (DualSPHysics's wave examples use 0.01)."""
@@ -29,7 +29,8 @@ def case_warnings(case):
     c0 = case.sound_speed
     fast = [fast_warning(f"fluids[{i}] starts at", math.hypot(*f.velocity), c0)
             for i, f in enumerate(case.fluids) if math.hypot(*f.velocity) > MACH_LIMIT * c0]
-    return wave_scheme_warnings(case) + check_motion_speeds(case.motions, c0, case.end_time) + fast
+    return wave_scheme_warnings(case) + check_motion_speeds(case.motions, c0, case.end_time,
+                                                            case.motion_reach()) + fast
 
 
 def wave_scheme_warnings(case):

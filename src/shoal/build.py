@@ -17,7 +17,7 @@ def build_model(case, backend="cpu"):
     p = case.particles()
     check_probes(case, len(p))  # a probe outside the domain or a tracked id that is no particle
     check_buried_probes(case)  # a gauge or probe point inside a fixed wall
-    check_motion_speeds(case.motions, case.sound_speed, case.end_time)  # a wall faster than sound
+    check_motion_speeds(case.motions, case.sound_speed, case.end_time, case.motion_reach())  # a wall faster than sound
     sym = None
     if case.symmetry_planes:
         if len(case.symmetry_planes) > 1:

@@ -346,6 +346,12 @@ class Case(BaseModel):
             if s.motion is not None and s.motion not in names:
                 allowed = ", ".join(names) if names else "none defined"
                 raise ValueError(f"solids[{i}].motion = {s.motion!r} names no motion (motions: {allowed})")
+        for i, m in enumerate(self.motions):
+            axis = m.rotation_axis
+            if self.dim == 2 and axis is not None and not (axis[0] == 0.0 and axis[2] == 0.0):
+                raise ValueError(f"motions[{i}] ({m.name!r}) rotates about the axis {[float(a) for a in axis]}: a 2D "
+                                 "case (the x-z plane) rotates only about the y axis; give axis = [0, 1, 0] (a "
+                                 "flap: a direction along x)")
         if self.domain is not None and "y" in self.domain.periodic and self.dim == 2:
             raise ValueError("domain.periodic = ['y'] is not allowed in 2D (the x-z plane); use ['x']")
         if self.fluid.depth is None and self.fluid.u_max is None:
@@ -484,6 +490,26 @@ class Case(BaseModel):
                     out[f] = hashlib.file_digest(fh, "sha256").hexdigest()
             except OSError:
                 out[f] = None
+        return out
+
+    def motion_reach(self):
+        """{name: reach [m]} of each motion that rotates: the largest distance from its pivot of the particles of
+        the solids it moves (in the x-z plane in 2D), where its wall moves fastest
+        (`shoal.motions.check_motion_speeds`); empty when no motion rotates (no particles generated)."""
+        rotating = [m for m in self.motions if m.rotation_axis is not None]
+        if not rotating:
+            return {}
+        p = self.particles()
+        out = {}
+        for m in rotating:
+            bodies = [i for i, s in enumerate(self.solids) if s.motion == m.name]
+            mine = np.isin(p.body, bodies)
+            if not mine.any():
+                continue
+            r = p.positions[mine] - np.asarray(m.rotation_pivot, float)
+            if self.dim == 2:
+                r[:, 1] = 0.0
+            out[m.name] = float(np.sqrt((r * r).sum(axis=1).max()))
         return out
 
     @property

@@ -24,12 +24,13 @@ from pydantic import BaseModel, ValidationError
 from .case import Case
 from .errors import InputError
 from .geometry.shapes import SHAPES
-from .motions import (ConstantVelocity, FocusedWaves, IrregularWaves, PistonWavemaker, SolitaryPiston,
-                      TimeSeriesMotion)
+from .motions import (ConstantVelocity, FlapWavemaker, FocusedWaves, IrregularWaves, PistonWavemaker,
+                      RotationMotion, SolitaryPiston, TimeSeriesMotion)
 from .waves.spectra import SPECTRA
 
 MOTIONS = {"constant_velocity": ConstantVelocity, "piston": PistonWavemaker, "solitary": SolitaryPiston,
-           "time_series": TimeSeriesMotion, "irregular": IrregularWaves, "focused": FocusedWaves}
+           "time_series": TimeSeriesMotion, "irregular": IrregularWaves, "focused": FocusedWaves,
+           "flap": FlapWavemaker, "rotation": RotationMotion}
 from .probes import (FlowGauge, ForceGauge, MaxZGauge, PointProbes, PressureSensors, RunupGauge, TestPoints, Tracker,
                      WaveGauge)
 

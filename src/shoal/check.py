@@ -38,7 +38,7 @@ def check_case(case):
     check_buried_probes(case)
     for m in case.motions:
         m.kinematics(0.0)  # reads a time-series file now: a missing or bad one is an error here, not in the run
-    check_motion_speeds(case.motions, case.sound_speed, case.end_time)
+    check_motion_speeds(case.motions, case.sound_speed, case.end_time, case.motion_reach())
     lo, hi = case.resolved_domain()
     o = case.options
     dim = case.dim

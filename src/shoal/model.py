@@ -19,6 +19,7 @@ from .backends import get_backend
 from .errors import InputError, InstabilityError
 from .options import SPHOptions
 from .particle_store import ParticleStore
+from .physics.body_motion import fill_motion_row, motion_layout
 from .physics.constants import particle_mass, reference_speed, smoothing_length, speed_of_sound
 from .physics.eos import GAMMA, density_of, pressure_of, tait_coefficient
 from .physics.spec import (ADAMI, FIXED, FLUID, MDBC, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec,
@@ -250,12 +251,22 @@ class Model:
         if self.spec.wall_pressure == ADAMI and self.motion_of is None:
             # the Adami wall-pressure kernel reads a motion table; without moving walls, one unused row
             # (not a per-particle array: a checkpoint saves only arrays of n_total rows, each once)
-            self._macc = b.asarray(np.zeros((1, dim), F))
+            self._motion_table = b.asarray(np.zeros((1, motion_layout(dim).width)))
             self._no_motion_of = b.asarray(np.zeros(1, np.int32))
         self.rho_range = (0.7 * self.rho0, 1.3 * self.rho0)
 
     def _init_motions(self, positions, kinds, motions, motion_of):
+        """The motions' state: each particle's start position and motion by id, the motion table
+        (`shoal.physics.body_motion.motion_layout`) and, where a motion rotates, the t = 0 copies of the
+        id-indexed wall vectors (`_init_wall_normals`) that turn with it."""
         self.motions = list(motions or [])
+        self._rotating = False
+        self._wall_vectors = []  # (initial, current) id-indexed tables that turn with a rotating wall
+        for m in self.motions:
+            axis = getattr(m, "rotation_axis", None)
+            if axis is not None and self.dim == 2 and not (axis[0] == 0.0 and axis[2] == 0.0):
+                raise InputError(f"motion {m.name!r} rotates about the axis {[float(a) for a in axis]}: a 2D case "
+                                 "(the x-z plane) rotates only about the y axis; give axis = [0, 1, 0]")
         moving = (kinds == MOVING) | (kinds == REPULSIVE_MOVING)
         if not moving.any():
             self.motion_of = None
@@ -265,15 +276,14 @@ class Model:
         if bad.any():
             raise InputError(f"{int(bad.sum())} moving boundary particles have no motion; give each moving solid "
                              f"a motion (motions defined: {len(self.motions)})")
-        b, F = self.backend, self.dtype
+        b = self.backend
         self.pos_init = b.asarray(np.ascontiguousarray(positions, dtype=np.float64))
         self.motion_of = b.asarray(motion_of)
-        self._disp_host = np.zeros((len(self.motions), self.dim))
-        self._mvel_host = np.zeros((len(self.motions), self.dim), F)
-        self._disp = b.asarray(self._disp_host.copy())
-        self._mvel = b.asarray(self._mvel_host.copy())
-        self._macc_host = np.zeros((len(self.motions), self.dim), F)
-        self._macc = b.asarray(self._macc_host.copy())
+        used = np.unique(motion_of[moving])
+        self._rotating = any(getattr(self.motions[k], "rotation_axis", None) is not None for k in used)
+        # one float64 row per motion, filled at every stage by move_bodies (its only host-device copy)
+        self._motion_host = np.zeros((len(self.motions), motion_layout(self.dim).width))
+        self._motion_table = b.asarray(self._motion_host.copy())
         self.move_bodies(0.0)
 
     def _init_wall_normals(self, kinds, wall_normals):
@@ -306,6 +316,11 @@ class Model:
             size = np.sqrt((table.astype(np.float64) ** 2).sum(axis=1, keepdims=True))
             unit = np.divide(table, size, out=np.zeros_like(table, dtype=np.float64), where=size > 0)
             self.wall_normal_of = self.backend.asarray(unit.astype(self.dtype))
+        if self._rotating:
+            # a rotating wall's ghost vectors and normals turn with it: R(t) times their values at t = 0
+            b = self.backend
+            self._wall_vectors = [(b.copy(a), a) for a in (self.ghost_of, self.wall_normal_of) if a is not None]
+            self._rotate_wall_vectors()
 
     def sample(self, points, shepard=True):
         """SPH interpolation at fixed points (`shoal.physics.interpolation`).
@@ -421,23 +436,30 @@ class Model:
                                      1.0 / L, float(z.rate), float(dt)))
 
     def move_bodies(self, t):
-        """Place the moving boundary particles where their motions put them at time `t` [s]."""
+        """Place the moving boundary particles where their motions put them at time `t` [s], with their
+        velocities (`shoal.physics.body_motion`): one `rigid_kinematics` call per motion fills the motion
+        table, which the kernels read (the Adami wall pressure, its accelerations too); the ghost vectors
+        and normals of a rotating wall turn with it."""
         if self.motion_of is None:
             return
-        cols = [0, 1, 2] if self.dim == 3 else [0, 2]
+        adami = self.spec.wall_pressure == ADAMI
+        host = self._motion_host
         for k, m in enumerate(self.motions):
-            d, v = m.kinematics(t)
-            self._disp_host[k] = np.asarray(d, float)[cols]
-            self._mvel_host[k] = np.asarray(v, float)[cols]
-            if self.spec.wall_pressure == ADAMI:
-                self._macc_host[k] = np.asarray(m.acceleration(t), float)[cols]
+            fill_motion_row(host[k], self.dim, m.rigid_kinematics(t, acceleration=adami))
         b = self.backend
-        self._disp = b.asarray(self._disp_host.copy()) if b.name != "cpu" else self._disp_host
-        self._mvel = b.asarray(self._mvel_host.copy()) if b.name != "cpu" else self._mvel_host
-        if self.spec.wall_pressure == ADAMI:
-            self._macc = b.asarray(self._macc_host.copy()) if b.name != "cpu" else self._macc_host
+        self._motion_table = b.asarray(host.copy()) if b.name != "cpu" else host
         b.timed(b.move_bodies, self.n, (self.pos, self.vel, self.kind, self.idp, self.pos_init, self.motion_of,
-                                        self._disp, self._mvel))
+                                        self._motion_table))
+        if self._rotating:
+            self._rotate_wall_vectors()
+
+    def _rotate_wall_vectors(self):
+        """Turn the id-indexed wall vectors (mDBC ghost vectors, Riemann normals) of the rotating walls
+        to the motion table's orientation."""
+        b = self.backend
+        for initial, current in self._wall_vectors:
+            b.timed(b.rotate_wall_vectors, self.n, (self.kind, self.idp, self.motion_of, self._motion_table,
+                                                    int(self.ghost_id0), initial, current))
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -471,6 +493,7 @@ class Model:
         if self.motion_of is not None:
             arrays += [self.pos_init, self.motion_of]
         arrays += [a for a in (self.ghost_of, self.wall_normal_of) if a is not None]
+        arrays += [initial for initial, _ in getattr(self, "_wall_vectors", ())]
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
 
     def new_array(self, like, owner=None):
@@ -579,7 +602,7 @@ class Model:
         b, n, P = self.backend, self.n, self.P
         if self.spec.wall_pressure == ADAMI:
             motion_of = self.motion_of if self.motion_of is not None else self._no_motion_of
-            b.timed(b.wall_pressure, n, (self.pos, self.rho, self.kind, self.idp, motion_of, self._macc,
+            b.timed(b.wall_pressure, n, (self.pos, self.rho, self.kind, self.idp, motion_of, self._motion_table,
                                          self.grid.cell, self.grid.cell_start, self.grid.gdims_arr, P))
         elif self.spec.wall_pressure == MDBC:
             # also the walls' no-slip velocity, from the same ghost nodes

@@ -1,10 +1,15 @@
 """Prescribed motions of solid bodies, as plain functions of time.
 
-A motion is data (a TOML ``[[motions]]`` table) with one method,
-``kinematics(t)`` -> (displacement [m], velocity [m/s]), two 3-vectors; the
-particles of every solid whose ``motion`` names it move rigidly with it:
-x(t) = x(0) + displacement(t), and they carry velocity(t) into the
-viscous and boundary terms.
+A motion is data (a TOML ``[[motions]]`` table) whose ``rigid_kinematics(t)`` gives a rigid motion
+(`RigidKinematics`): a rotation R(t) about a pivot c (a point of the body at t = 0), angular velocity
+omega(t), and a translation d(t) of velocity v(t). The particles of every solid whose ``motion`` names
+it move rigidly with it,
+
+    x(t) = c + d(t) + R(t) (x(0) - c),    u(t) = v(t) + omega(t) x (x(t) - c - d(t)),
+
+and carry u(t) into the viscous and boundary terms (`shoal.physics.body_motion`). ``kinematics(t)`` ->
+(d(t), v(t)), two 3-vectors, is the translation alone: the whole motion of the kinds that do not rotate
+(R = I, omega = 0).
 
 * `ConstantVelocity`: a wall pushed at constant speed (the moving-wall
   inflow of the tidal-bore paper).
@@ -19,6 +24,12 @@ viscous and boundary terms.
   Biesel's transfer function.
 * `FocusedWaves`: a piston paddle for a focused wave group (NewWave) that
   crests at a chosen place and time.
+* `FlapWavemaker`: a flap paddle hinged at a height above the bed, rotating
+  about its hinge, for regular waves; its stroke from the flap's transfer
+  function. `IrregularWaves` and `FocusedWaves` drive a flap too
+  (``paddle = "flap"``).
+* `RotationMotion`: a sinusoidal rotation about a fixed axis through a pivot
+  (DualSPHysics's ``mvrotsinu``).
 
 The wave theory (dispersion, transfer functions, spectra, components) is in
 `shoal.waves`; `wavenumber` and `piston_height_to_stroke` are importable from
@@ -32,7 +43,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal, NamedTuple, Union
 
 import numpy as np
 from pydantic import Field, PrivateAttr, field_validator, model_validator
@@ -41,7 +52,7 @@ from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
 from .waves.components import focused_components, random_phase_components
 from .waves.dispersion import group_velocity, wavenumber
 from .waves.spectra import AnySpectrum
-from .waves.transfer import piston_height_to_stroke
+from .waves.transfer import flap_height_to_stroke, piston_height_to_stroke
 
 _G = 9.81
 
@@ -54,14 +65,156 @@ _SAMPLES = 1001
 """Times at which a motion's speed is sampled to find its peak (besides the exact points of each kind)."""
 
 
+MAX_FLAP_ANGLE = math.pi / 4
+"""Largest angle [rad] a flap paddle may swing either side of vertical (45 degrees): its transfer function is
+linear theory, where the face's excursion (d - l) tan(theta) is the stroke; at 45 degrees tan(theta) is already
+27 % above theta, and the flap lies over the water it should push."""
+
+
+def rotation_matrix(axis, angle):
+    """The rotation by `angle` [rad] about the unit vector `axis` (right-handed), by Rodrigues' formula:
+
+        R = cos(theta) I + sin(theta) [a]_x + (1 - cos(theta)) a a^T,
+
+    [a]_x the cross-product matrix of a (Rodrigues 1840; Goldstein, Poole & Safko 2002, ch. 4); 1 - cos(theta) is
+    taken as 2 sin^2(theta / 2), without cancellation at small angles. About y (a = (0, 1, 0)) a positive angle turns
+    +z towards +x: R = [[cos, 0, sin], [0, 1, 0], [-sin, 0, cos]].
+
+    Parameters
+    ----------
+    axis : sequence of 3 floats
+        Unit vector (not normalised here).
+    angle : float
+        [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        (3, 3).
+    """
+    x, y, z = (float(a) for a in axis)
+    c, s = math.cos(angle), math.sin(angle)
+    v = 2.0 * math.sin(0.5 * angle) ** 2
+    return np.array([[c + v * x * x, v * x * y - s * z, v * x * z + s * y],
+                     [v * y * x + s * z, c + v * y * y, v * y * z - s * x],
+                     [v * z * x - s * y, v * z * y + s * x, c + v * z * z]])
+
+
+class RigidKinematics(NamedTuple):
+    """A rigid motion at one time, world 3-vectors (`Motion.rigid_kinematics`).
+
+    A point of the body at x0 at t = 0 is at x = c + d + R (x0 - c), moves at u = v + omega x r and
+    accelerates at a = a_d + alpha x r + omega x (omega x r), with r = R (x0 - c) (Goldstein, Poole & Safko
+    2002, ch. 4). `rotates` is false for a motion that never rotates (R = I, omega = alpha = 0): its points
+    are at x0 + d exactly.
+
+    Attributes
+    ----------
+    displacement : numpy.ndarray
+        d [m], the pivot's displacement.
+    velocity : numpy.ndarray
+        v = dd/dt [m/s].
+    acceleration : numpy.ndarray
+        a_d = dv/dt [m/s^2] (zero where not asked for).
+    rotation : numpy.ndarray
+        R, (3, 3).
+    angular_velocity : numpy.ndarray
+        omega [rad/s].
+    angular_acceleration : numpy.ndarray
+        alpha = d omega / dt [rad/s^2].
+    pivot : numpy.ndarray
+        c [m], the point of the body at t = 0 that the rotation leaves in place.
+    rotates : bool
+    """
+
+    displacement: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    rotation: np.ndarray
+    angular_velocity: np.ndarray
+    angular_acceleration: np.ndarray
+    pivot: np.ndarray
+    rotates: bool
+
+    def points(self, x0):
+        """(x [m], u [m/s], a [m/s^2]), each (N, 3), of the body points that were at `x0` ((N, 3) or (3,)) at
+        t = 0, computed as the kernels compute them (`shoal.physics.body_motion`): x = (c + d) + R (x0 - c)."""
+        x0 = np.atleast_2d(np.asarray(x0, float))
+        if not self.rotates:
+            n = len(x0)
+            return (x0 + self.displacement, np.tile(self.velocity, (n, 1)), np.tile(self.acceleration, (n, 1)))
+        r0 = x0 - self.pivot
+        rot = self.rotation
+        r = r0[:, 0:1] * rot[:, 0] + r0[:, 1:2] * rot[:, 1] + r0[:, 2:3] * rot[:, 2]
+        w, al = self.angular_velocity, self.angular_acceleration
+        x = (self.pivot + self.displacement) + r
+        u = self.velocity + np.cross(w, r)
+        a = self.acceleration + np.cross(al, r) + np.cross(w, np.cross(w, r))
+        return x, u, a
+
+
+def _translation(d, v, a):
+    return RigidKinematics(np.asarray(d, float), np.asarray(v, float), np.asarray(a, float), np.eye(3),
+                           np.zeros(3), np.zeros(3), np.zeros(3), False)
+
+
+def _cosine_ramp(t, tr):
+    """(r, dr/dt, d2r/dt2) of the start-up ramp r(t) = (1 - cos(pi t / t_r)) / 2 for 0 < t < t_r, 0 before,
+    1 after (and 1 for t_r = 0)."""
+    if tr <= 0 or t >= tr:
+        return 1.0, 0.0, 0.0
+    if t <= 0:
+        return 0.0, 0.0, 0.0
+    q = math.pi / tr
+    return 0.5 * (1 - math.cos(q * t)), 0.5 * q * math.sin(q * t), 0.5 * q * q * math.cos(q * t)
+
+
+def _flap_angle(x, xd, xdd, arm):
+    """(theta, dtheta/dt, d2theta/dt2) of a flap whose face crosses the still-water level, `arm` [m] above its
+    hinge, at the horizontal excursion x(t) [m] (with its derivatives xd, xdd): theta = atan(q), q = x / arm,
+    theta' = q' / (1 + q^2), theta'' = (q'' (1 + q^2) - 2 q q'^2) / (1 + q^2)^2."""
+    q, qd, qdd = x / arm, xd / arm, xdd / arm
+    s = 1.0 + q * q
+    return math.atan(q), qd / s, (qdd * s - 2.0 * q * qd * qd) / (s * s)
+
+
+def _hinge_axis(direction):
+    """The unit axis z x e of a flap pushing along the horizontal `direction` e: a positive angle about it swings
+    the flap's top along +e. Raises ValueError for a direction that is not horizontal."""
+    e = np.asarray(direction, float)
+    if not (e[2] == 0.0 and math.hypot(e[0], e[1]) > 0):
+        raise ValueError(f"direction = {[float(v) for v in direction]}: a flap pushes along a horizontal direction "
+                         "(its hinge is horizontal, normal to it); give a direction with z = 0, e.g. [1, 0, 0]")
+    a = np.array([-e[1], e[0], 0.0])
+    return a / np.linalg.norm(a)
+
+
 class Motion(Spec):
     """Base of motions: `name` is what solids refer to."""
 
     name: Annotated[str, Field(min_length=1)]
 
     def kinematics(self, t):
-        """(displacement [m], velocity [m/s]) at time t [s], 3-vectors."""
+        """(displacement [m], velocity [m/s]) at time t [s], 3-vectors: the translation (of the pivot, for a
+        motion that rotates too, `rigid_kinematics`)."""
         raise NotImplementedError
+
+    @property
+    def rotation_axis(self):
+        """The unit axis (3-vector) of a motion that rotates about a fixed axis; None for one that only
+        translates."""
+        return None
+
+    def rigid_kinematics(self, t, acceleration=True):
+        """The rigid motion at time t [s] (`RigidKinematics`); for a motion that only translates,
+        `kinematics` with R = I, and `acceleration` (else zero) when `acceleration` is true."""
+        d, v = self.kinematics(t)
+        return _translation(d, v, self.acceleration(t) if acceleration else np.zeros(3))
+
+    def point_kinematics(self, points, t):
+        """(x [m], u [m/s], a [m/s^2]), each (N, 3), at time t [s] of the body points that were at `points`
+        ((N, 3) world coordinates [m]) at t = 0 (`RigidKinematics.points`)."""
+        return self.rigid_kinematics(t).points(points)
 
     def peak_speed(self, t_end):
         """The largest speed |velocity(t)| [m/s] over 0 <= t <= `t_end` [s], from the times
@@ -343,6 +496,211 @@ class TimeSeriesMotion(Motion):
         return np.asarray(sp(t, 2), float)
 
 
+class RotatingMotion(Motion):
+    """Base of the motions that rotate a body about a fixed axis through a fixed pivot: R(t) the rotation by
+    the angle theta(t) about `rotation_axis` (`rotation_matrix`), omega = theta' a, alpha = theta'' a; the
+    pivot does not move (d = v = a_d = 0). Each kind gives `angle`, the axis and the pivot."""
+
+    @property
+    def rotation_pivot(self):
+        """c [m], the point on the axis the rotation leaves in place (world coordinates)."""
+        raise NotImplementedError
+
+    def angle(self, t):
+        """(theta [rad], dtheta/dt [rad/s], d2theta/dt2 [rad/s^2]) at time t [s]."""
+        raise NotImplementedError
+
+    @property
+    def default_reach(self):
+        """The distance from the axis [m] at which `peak_speed` measures the wall speed when not told."""
+        return 0.0
+
+    def kinematics(self, t):
+        """(0, 0): the pivot does not move (the rotation: `rigid_kinematics`)."""
+        return np.zeros(3), np.zeros(3)
+
+    def acceleration(self, t, eps=1e-5):
+        """Zero: the pivot does not move (the rotation's: `rigid_kinematics`)."""
+        return np.zeros(3)
+
+    def rigid_kinematics(self, t, acceleration=True):
+        """The rotation by `angle` about the axis through the pivot (`RigidKinematics`); its angular
+        acceleration is exact, whatever `acceleration` says (it costs nothing)."""
+        theta, w, al = self.angle(t)
+        a = np.asarray(self.rotation_axis, float)
+        return RigidKinematics(np.zeros(3), np.zeros(3), np.zeros(3), rotation_matrix(a, theta), w * a, al * a,
+                               np.array(self.rotation_pivot, float), True)
+
+    def peak_speed(self, t_end, reach=None):
+        """The largest wall speed |theta'| reach [m/s] over 0 <= t <= `t_end` [s] of a point `reach` [m] from
+        the axis (default: `default_reach`), at the times `_speed_times` gives."""
+        reach = self.default_reach if reach is None else float(reach)
+        times = self._speed_times(float(t_end))
+        return max((abs(self.angle(float(t))[1]) for t in times), default=0.0) * reach
+
+
+class RotationMotion(RotatingMotion):
+    """A sinusoidal rotation about the fixed `axis` through `pivot` (DualSPHysics's ``mvrotsinu``):
+
+        theta(t) = r(t) A [sin(omega t + phi) - sin(phi)],   omega = 2 pi / T,
+
+    A = `amplitude` [rad], T = `period` [s], phi = `phase` [rad], positive about `axis` by the right-hand rule,
+    r(t) = (1 - cos(pi t / t_r)) / 2 the start-up ramp for t < t_r = `ramp_periods` T (1 after; none by
+    default). The case's geometry is the body at t = 0, at the phase phi of its swing (theta(0) = 0).
+    """
+
+    type: Literal["rotation"] = "rotation"
+    amplitude: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
+    period: PositiveReal
+    axis: Vec3 = (0.0, 1.0, 0.0)
+    pivot: Vec3 = (0.0, 0.0, 0.0)
+    phase: Annotated[float, Field(allow_inf_nan=False, strict=True)] = 0.0
+    ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
+
+    @model_validator(mode="after")
+    def _a_rotation(self):
+        """Refuse a zero axis, and a swing whose angular speed A omega is not finite."""
+        if not np.linalg.norm(np.asarray(self.axis, float)) > 0:
+            raise ValueError("axis = [0, 0, 0] is no axis; give the direction of the rotation axis, e.g. [0, 1, 0]")
+        if not math.isfinite(self.amplitude * 2.0 * math.pi / self.period):
+            raise ValueError(f"amplitude = {self.amplitude:g} rad over period = {self.period:g} s gives no finite "
+                             "angular speed; give the amplitude in radians and the period in seconds")
+        return self
+
+    @property
+    def rotation_axis(self):
+        a = np.asarray(self.axis, float)
+        return a / np.linalg.norm(a)
+
+    @property
+    def rotation_pivot(self):
+        return np.asarray(self.pivot, float)
+
+    def angle(self, t):
+        """(theta, theta', theta'') at time t [s] (class docstring)."""
+        w = 2.0 * math.pi / self.period
+        r, dr, ddr = _cosine_ramp(t, self.ramp_periods * self.period)
+        t = max(t, 0.0)
+        amp = self.amplitude
+        s, c = math.sin(w * t + self.phase), math.cos(w * t + self.phase)
+        f = amp * (s - math.sin(self.phase))
+        fd, fdd = amp * w * c, -amp * w * w * s
+        return r * f, dr * f + r * fd, ddr * f + 2.0 * dr * fd + r * fdd
+
+    def _speed_times(self, t_end):
+        """The ramp and two periods after it: the motion is periodic from then on."""
+        return np.linspace(0.0, min(t_end, (self.ramp_periods + 2.0) * self.period), _SAMPLES)
+
+
+class FlapWavemaker(RotatingMotion):
+    """A flap paddle making regular waves of `height` H [m] and `period` T [s] in water of `depth` d [m],
+    hinged `hinge` l [m] above the bed (0: on the bed; negative: below it, through a slot), rotating about the
+    horizontal hinge line through `pivot` (default (0, 0, l): the bed at z = 0), normal to `direction` e.
+
+    Stroke S = H / (H/S) with the flap's transfer function (`shoal.waves.flap_height_to_stroke`, Biesel &
+    Suquet 1951), S the horizontal excursion of the flap's face at the still-water level, peak to peak. The
+    face crosses that level, the arm L = d - l above the hinge, at
+
+        X(t) = r(t) (S/2) sin(omega t),   theta(t) = atan(X(t) / L),
+
+    r(t) = (1 - cos(pi t / t_r)) / 2 for t < t_r = `ramp_periods` T the start-up ramp, so the flap swings
+    theta_0 = atan(S / (2 L)) either side of vertical (S = 2 L tan theta_0) and its top first moves along e.
+    The excursion at the surface is sinusoidal, as the piston's (and for small theta_0, theta(t) ~ r(t)
+    theta_0 sin(omega t)); the same sum of components drives an irregular flap (`IrregularWaves`).
+    """
+
+    type: Literal["flap"] = "flap"
+    height: PositiveReal
+    period: PositiveReal
+    depth: PositiveReal
+    hinge: Annotated[float, Field(allow_inf_nan=False, strict=True)] = 0.0
+    pivot: Vec3 | None = None
+    direction: Vec3 = (1.0, 0.0, 0.0)
+    ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 2.0
+
+    @model_validator(mode="after")
+    def _a_wave_that_exists(self):
+        """Refuse a hinge at or above the still-water level, a direction that is not horizontal, a period without
+        a finite wavelength, a height above the breaking limit of Miche (1944), H_max = 0.142 L tanh(k d), and
+        a swing beyond `MAX_FLAP_ANGLE`."""
+        if not self.hinge < self.depth:
+            raise ValueError(f"hinge = {self.hinge:g} m is not below the still-water level d = {self.depth:g} m: a "
+                             "flap hinged there moves no water; give hinge < depth (0: hinged at the bed)")
+        _hinge_axis(self.direction)
+        try:
+            k = wavenumber(self.period, self.depth)
+        except (OverflowError, ZeroDivisionError):
+            k = math.nan
+        if not (math.isfinite(k) and k > 0 and math.isfinite(2.0 * math.pi / k)):
+            raise ValueError(f"period = {self.period:g} s in {self.depth:g} m of water gives no finite wavelength; "
+                             "give the period of a water wave in seconds")
+        length = 2.0 * math.pi / k
+        h_max = 0.142 * length * math.tanh(k * self.depth)
+        if self.height > h_max:
+            raise ValueError(f"height = {self.height:g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
+                             f"{h_max:.3g} m (Miche 1944) of a {self.period:g} s wave in {self.depth:g} m of water "
+                             f"(L = {length:.3g} m): no regular wave that high exists; give a lower height or a "
+                             "longer period")
+        ratio = flap_height_to_stroke(k, self.depth, self.hinge)
+        stroke = self.height / ratio if ratio > 0 else math.inf
+        arm = self.depth - self.hinge
+        theta = math.atan(0.5 * stroke / arm) if math.isfinite(stroke) else 0.5 * math.pi
+        if not theta <= MAX_FLAP_ANGLE:
+            raise ValueError(f"height = {self.height:g} m at period = {self.period:g} s needs a flap stroke of "
+                             f"{stroke:.3g} m at the surface, a swing of {math.degrees(theta):.3g} degrees either "
+                             f"side of vertical (H/S = {ratio:.3g}, hinge {arm:.3g} m below the surface), more than "
+                             f"{math.degrees(MAX_FLAP_ANGLE):g}: give a lower height or a shorter period (a piston "
+                             "needs half the stroke for long waves)")
+        return self
+
+    @property
+    def wavenumber(self):
+        return wavenumber(self.period, self.depth)
+
+    @property
+    def stroke(self):
+        """Full stroke S [m] of the flap's face at the still-water level."""
+        return self.height / flap_height_to_stroke(self.wavenumber, self.depth, self.hinge)
+
+    @property
+    def arm(self):
+        """L = d - l [m]: from the hinge up to the still-water level."""
+        return self.depth - self.hinge
+
+    @property
+    def angle_amplitude(self):
+        """theta_0 = atan(S / (2 L)) [rad], the flap's largest angle from vertical."""
+        return math.atan(0.5 * self.stroke / self.arm)
+
+    @property
+    def rotation_axis(self):
+        return _hinge_axis(self.direction)
+
+    @property
+    def rotation_pivot(self):
+        return np.array(self.pivot if self.pivot is not None else (0.0, 0.0, self.hinge), float)
+
+    @property
+    def default_reach(self):
+        """L: the wall speed `peak_speed` gives is the face's at the still-water level."""
+        return self.arm
+
+    def angle(self, t):
+        """(theta, theta', theta'') at time t [s] from the face's excursion X(t) at the surface (class
+        docstring)."""
+        w = 2.0 * math.pi / self.period
+        r, dr, ddr = _cosine_ramp(t, self.ramp_periods * self.period)
+        t = max(t, 0.0)
+        a = 0.5 * self.stroke
+        s, c = math.sin(w * t), math.cos(w * t)
+        return _flap_angle(r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s),
+                           self.arm)
+
+    def _speed_times(self, t_end):
+        """The ramp and two periods after it: the motion is periodic from then on."""
+        return np.linspace(0.0, min(t_end, (self.ramp_periods + 2.0) * self.period), _SAMPLES)
+
+
 MAX_COMPONENTS = 32768
 """Most wave components a spectral paddle may have (its kinematics sum them at every call)."""
 
@@ -355,7 +713,8 @@ _SAMPLES_PER_PERIOD = 20
 
 
 class SpectralPaddle(Motion):
-    """Base of the piston paddles driven by a sum of wave components (`IrregularWaves`, `FocusedWaves`).
+    """Base of the paddles driven by a sum of wave components (`IrregularWaves`, `FocusedWaves`): a piston, or
+    a flap (``paddle = "flap"``).
 
     For components of amplitudes a_n, angular frequencies omega_n, wavenumbers k_n and phases phi_n (made by
     each kind from its `spectrum`, `shoal.waves.components`), the paddle moves along `direction` as
@@ -369,6 +728,14 @@ class SpectralPaddle(Motion):
     eta(x, t) = sum_n a_n cos(omega_n t - k_n x + phi_n) at the distance x in front of its rest position
     (`elevation`; the ramp's start reaches x about t_r + x / c_g later). The signal repeats itself after the
     repeat period 1 / df of the components (`shoal.waves.frequency_grid`).
+
+    A flap (``paddle = "flap"``) hinged `hinge` l [m] above the bed, about the horizontal line through `pivot`
+    (default (0, 0, l)) normal to `direction`, takes T_n = H/S of a flap at k_n d hinged at l
+    (`shoal.waves.flap_height_to_stroke`, the stroke measured at the still-water level): X(t) above, the sum
+    of the components' excursions (linear superposition, small angles), is the horizontal excursion of the
+    flap's face at the still-water level, the arm L = d - l above the hinge, and the flap's angle is
+    theta(t) = atan(X(t) / L) (`FlapWavemaker` for one component). `max_displacement` is then the largest
+    excursion at the surface.
     """
 
     spectrum: AnySpectrum
@@ -379,20 +746,31 @@ class SpectralPaddle(Motion):
     ramp_time: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] | None = None
     direction: Vec3 = (1.0, 0.0, 0.0)
     paddle: str = "piston"
+    hinge: Annotated[float, Field(allow_inf_nan=False, strict=True)] = 0.0
+    pivot: Vec3 | None = None
     _waves: object = PrivateAttr(default=None)
     _grid: tuple | None = PrivateAttr(default=None)
     _terms: tuple | None = PrivateAttr(default=None)
 
     @field_validator("paddle")
     @classmethod
-    def _a_piston(cls, v):
-        if v == "flap":
-            raise ValueError("paddle = 'flap' is not available yet: a flap rotates about its hinge, and shoal's "
-                             "motions only translate a solid (shoal.waves.flap_height_to_stroke gives a flap's "
-                             "transfer function); use paddle = 'piston'")
-        if v != "piston":
-            raise ValueError(f"paddle = {v!r} is not a paddle type; allowed: 'piston'")
+    def _a_paddle(cls, v):
+        if v not in ("piston", "flap"):
+            raise ValueError(f"paddle = {v!r} is not a paddle type; allowed: 'piston', 'flap'")
         return v
+
+    def _check_paddle(self):
+        """Refuse a flap's keys on a piston, a flap hinged at or above the still-water level, and a flap pushing
+        along a direction that is not horizontal."""
+        if self.paddle == "piston":
+            if self.hinge != 0.0 or self.pivot is not None:
+                raise ValueError("hinge and pivot place a flap's hinge; paddle = 'piston' has none: give "
+                                 "paddle = 'flap' or leave them out")
+            return
+        if not self.hinge < self.depth:
+            raise ValueError(f"hinge = {self.hinge:g} m is not below the still-water level d = {self.depth:g} m: a "
+                             "flap hinged there moves no water; give hinge < depth (0: hinged at the bed)")
+        _hinge_axis(self.direction)
 
     def _make_components(self):
         raise NotImplementedError
@@ -401,6 +779,7 @@ class SpectralPaddle(Motion):
         """Refuse what gives no finite paddle signal (an empty band, a zero axis, infinite wavenumbers or phases,
         a travel over 1000 depths), a band too narrow for its components, a ramp of zero. Returns the
         components."""
+        self._check_paddle()
         if not self.f_min < self.f_max:
             raise ValueError(f"f_min = {self.f_min:g} is not below f_max = {self.f_max:g} (both multiples of the "
                              "peak frequency); give the band of the components, e.g. f_min = 0.5, f_max = 3")
@@ -438,6 +817,15 @@ class SpectralPaddle(Motion):
             raise ValueError(f"the components need a paddle travel {travel}, more than 1000 times the "
                              f"depth {self.depth:g} m (Biesel's H/S is small for long waves); raise f_min above "
                              f"{self.f_min:g} fp or give a shorter peak period")
+        if self.paddle == "flap":  # (sampled as `max_displacement` is; not kept: a case's motions compare equal)
+            with np.errstate(all="ignore"):
+                reach = float(np.max(np.abs(self._sample(waves, self._coefficients(waves))[1])))
+            theta = math.atan(reach / self.arm)
+            if not theta <= MAX_FLAP_ANGLE:
+                raise ValueError(f"the components swing the flap up to {math.degrees(theta):.3g} degrees from "
+                                 f"vertical (an excursion of {reach:.3g} m at the surface, the hinge {self.arm:.3g} "
+                                 f"m below it), more than {math.degrees(MAX_FLAP_ANGLE):g}: give a lower Hs or "
+                                 "amplitude, or raise f_min (long waves need the largest strokes)")
         if self.ramp_time is not None and self.ramp_time <= 0:
             raise ValueError("ramp_time = 0 s would start the paddle away from where the case puts it (the sum of "
                              "the components is not 0 at t = 0); give a ramp of a peak period or more (the default "
@@ -473,10 +861,31 @@ class SpectralPaddle(Motion):
             return float(self.ramp_time)
         return min(2.0 / self.spectrum.peak_frequency, self.repeat_period)
 
-    @staticmethod
-    def _coefficients(waves):
-        """b_n = a_n / T_n [m]: the paddle amplitude of each component."""
+    def _coefficients(self, waves):
+        """b_n = a_n / T_n [m]: the paddle amplitude of each component (a flap's: at the still-water level)."""
+        if self.paddle == "flap":
+            return waves.amplitudes / flap_height_to_stroke(waves.wavenumbers, waves.depth, self.hinge)
         return waves.amplitudes / piston_height_to_stroke(waves.wavenumbers, waves.depth)
+
+    @property
+    def arm(self):
+        """A flap's L = d - l [m], from the hinge up to the still-water level."""
+        return self.depth - self.hinge
+
+    @property
+    def rotation_axis(self):
+        """A flap's hinge axis z x e (e: `direction`); None for a piston."""
+        return _hinge_axis(self.direction) if self.paddle == "flap" else None
+
+    @property
+    def rotation_pivot(self):
+        """A flap's hinge point [m]: `pivot`, default (0, 0, `hinge`)."""
+        return np.array(self.pivot if self.pivot is not None else (0.0, 0.0, self.hinge), float)
+
+    @property
+    def default_reach(self):
+        """A flap's L: `peak_speed` gives the face's speed at the still-water level."""
+        return self.arm
 
     def _ramp_factor(self, t):
         tr = self.ramp
@@ -491,22 +900,54 @@ class SpectralPaddle(Motion):
         return d / np.linalg.norm(d)
 
     def _signal(self):
-        """(b_n, omega_n, phi_n, b_n omega_n, the unit axis), computed once."""
+        """(b_n, omega_n, phi_n, b_n omega_n, the unit axis, b_n omega_n^2), computed once."""
         if self._terms is None:
             w = self.wave_components
             b = self._coefficients(w)
-            self._terms = (b, w.omegas, w.phases, b * w.omegas, self._unit())
+            self._terms = (b, w.omegas, w.phases, b * w.omegas, self._unit(), b * w.omegas**2)
         return self._terms
 
     def kinematics(self, t):
-        """(displacement [m], velocity [m/s]) at time t [s], 3-vectors along `direction`."""
-        b, omega, phi, bw, e = self._signal()
+        """(displacement [m], velocity [m/s]) at time t [s], 3-vectors along `direction`; a flap's hinge does
+        not move: (0, 0) (its rotation: `rigid_kinematics`)."""
+        if self.paddle == "flap":
+            return np.zeros(3), np.zeros(3)
+        b, omega, phi, bw, e, _ = self._signal()
         r, dr = self._ramp_factor(t)
         t = max(t, 0.0)
         arg = omega * t + phi
         s = float(np.dot(b, np.sin(arg)))
         c = float(np.dot(bw, np.cos(arg)))
         return e * (r * s), e * (dr * s + r * c)
+
+    def acceleration(self, t, eps=1e-5):
+        """A piston's acceleration (`Motion.acceleration`); a flap's hinge does not move: zero."""
+        if self.paddle == "flap":
+            return np.zeros(3)
+        return super().acceleration(t, eps)
+
+    def angle(self, t):
+        """A flap's (theta [rad], dtheta/dt [rad/s], d2theta/dt2 [rad/s^2]) at time t [s]: theta = atan(X / L)
+        of the excursion X(t) at the surface (class docstring), with X'' = r'' s + 2 r' s' + r s''."""
+        b, omega, phi, bw, _, bw2 = self._signal()
+        tr = self.ramp
+        r, dr, ddr = _cosine_ramp(t, tr)
+        t = max(t, 0.0)
+        arg = omega * t + phi
+        sin, cos = np.sin(arg), np.cos(arg)
+        s = float(np.dot(b, sin))
+        c = float(np.dot(bw, cos))
+        a = -float(np.dot(bw2, sin))
+        return _flap_angle(r * s, dr * s + r * c, ddr * s + 2.0 * dr * c + r * a, self.arm)
+
+    def rigid_kinematics(self, t, acceleration=True):
+        """A piston's translation (`Motion.rigid_kinematics`); a flap's rotation by `angle` about its hinge."""
+        if self.paddle != "flap":
+            return super().rigid_kinematics(t, acceleration)
+        theta, w, al = self.angle(t)
+        a = self.rotation_axis
+        return RigidKinematics(np.zeros(3), np.zeros(3), np.zeros(3), rotation_matrix(a, theta), w * a, al * a,
+                               self.rotation_pivot, True)
 
     def elevation(self, x, t):
         """The linear target elevation eta(x, t) = sum_n a_n cos(omega_n t - k_n x + phi_n) [m] at the distance
@@ -520,17 +961,20 @@ class SpectralPaddle(Motion):
         M = 2 ceil(10 n_max) (20 samples or more a period of the fastest component, n_max df its frequency),
         each by an inverse FFT (f_n = n df: a sum of cos(2 pi n j / M + psi_n))."""
         if self._grid is None:
-            w = self.wave_components
-            b = self._signal()[0]
-            n = np.rint(w.frequencies / w.df).astype(np.int64)
-            m = 2 * int(math.ceil(_SAMPLES_PER_PERIOD / 2 * max(int(n.max()), 1)))
-            out = []
-            for coef, shift in ((b, -0.5 * math.pi), (b * w.omegas, 0.0)):  # sin(u) = cos(u - pi/2)
-                spectrum = np.zeros(m // 2 + 1, complex)
-                np.add.at(spectrum, n, 0.5 * m * coef * np.exp(1j * (w.phases + shift)))
-                out.append(np.fft.irfft(spectrum, m))
-            self._grid = (w.repeat_period / m, out[0], out[1])
+            self._grid = self._sample(self.wave_components, self._signal()[0])
         return self._grid
+
+    @staticmethod
+    def _sample(w, b):
+        """`_sampled` of the components `w` with the paddle amplitudes `b`."""
+        n = np.rint(w.frequencies / w.df).astype(np.int64)
+        m = 2 * int(math.ceil(_SAMPLES_PER_PERIOD / 2 * max(int(n.max()), 1)))
+        out = []
+        for coef, shift in ((b, -0.5 * math.pi), (b * w.omegas, 0.0)):  # sin(u) = cos(u - pi/2)
+            spectrum = np.zeros(m // 2 + 1, complex)
+            np.add.at(spectrum, n, 0.5 * m * coef * np.exp(1j * (w.phases + shift)))
+            out.append(np.fft.irfft(spectrum, m))
+        return w.repeat_period / m, out[0], out[1]
 
     def _speed_times(self, t_end):
         """Times t_j = j dt (`_sampled`: 20 or more a period of the fastest component) from 0 to the end of the
@@ -541,10 +985,13 @@ class SpectralPaddle(Motion):
             return np.empty(0)
         return np.arange(int(math.floor(last / dt)) + 1) * dt
 
-    def peak_speed(self, t_end):
+    def peak_speed(self, t_end, reach=None):
         """The largest speed [m/s] over 0 <= t <= `t_end` [s] at the times `_speed_times` gives and at the
         middle of the ramp: the ramp r(t) and its derivative times the sampled periodic signal, within about
-        1 % (the sampling's)."""
+        1 % (the sampling's). A flap's: |theta'| times `reach` [m] from the hinge (default `default_reach`,
+        the still-water level), theta' = (X' / L) / (1 + (X / L)^2)."""
+        if self.paddle == "flap":
+            return self._flap_peak_speed(t_end, self.default_reach if reach is None else float(reach))
         dt, s, c = self._sampled()
         t = self._speed_times(t_end)
         if not len(t):
@@ -560,6 +1007,24 @@ class SpectralPaddle(Motion):
         if 0.0 < 0.5 * tr <= t_end:  # the middle of the ramp, where r' peaks (a ramp shorter than dt included)
             peak = max(peak, float(np.linalg.norm(self.kinematics(0.5 * tr)[1])))
         return peak
+
+    def _flap_peak_speed(self, t_end, reach):
+        dt, s, c = self._sampled()
+        t = self._speed_times(t_end)
+        if not len(t):
+            return 0.0
+        j = np.arange(len(t)) % len(s)
+        tr = self.ramp
+        x = np.clip(t, 0.0, tr) / tr if tr > 0 else np.ones_like(t)
+        r = 0.5 * (1.0 - np.cos(math.pi * x))
+        dr = np.zeros_like(t)
+        inside = (x > 0.0) & (x < 1.0)
+        dr[inside] = 0.5 * math.pi / tr * np.sin(math.pi * x[inside])
+        q, qd = r * s[j] / self.arm, (dr * s[j] + r * c[j]) / self.arm
+        peak = float(np.max(np.abs(qd / (1.0 + q * q))))
+        if 0.0 < 0.5 * tr <= t_end:
+            peak = max(peak, abs(self.angle(0.5 * tr)[1]))
+        return peak * reach
 
     @property
     def max_displacement(self):
@@ -647,10 +1112,10 @@ class FocusedWaves(SpectralPaddle):
 
 
 AnyMotion = Annotated[Union[ConstantVelocity, PistonWavemaker, SolitaryPiston, TimeSeriesMotion, IrregularWaves,
-                            FocusedWaves], Field(discriminator="type")]
+                            FocusedWaves, FlapWavemaker, RotationMotion], Field(discriminator="type")]
 
 
-def check_motion_speeds(motions, c0, t_end):
+def check_motion_speeds(motions, c0, t_end, reach=None):
     """Refuse a motion faster than sound; warn about one faster than `MACH_LIMIT` c0.
 
     Weakly compressible SPH lets the density vary by (u / c0)^2 to carry a flow of speed u (Monaghan
@@ -666,6 +1131,10 @@ def check_motion_speeds(motions, c0, t_end):
         The case's speed of sound [m/s] (`shoal.physics.constants.speed_of_sound`).
     t_end : float
         The case's end time [s]: only the motion up to then counts.
+    reach : dict of str to float, optional
+        For a motion that rotates, by its name: the largest distance [m] of its body from the axis
+        (`shoal.Case.motion_reach`), where its wall is fastest; without it, the motion's `default_reach`
+        (a flap's face at the still-water level).
 
     Returns
     -------
@@ -681,7 +1150,10 @@ def check_motion_speeds(motions, c0, t_end):
 
     warnings = []
     for m in motions:
-        u = m.peak_speed(t_end)
+        if m.rotation_axis is not None:
+            u = m.peak_speed(t_end, (reach or {}).get(m.name))
+        else:
+            u = m.peak_speed(t_end)
         if not u < c0:
             raise InputError(f"motion {m.name!r} reaches {u:.3g} m/s, not below the speed of sound c0 = {c0:.3g} m/s "
                              f"of the weakly compressible fluid: no wall can be faster than sound here; keep its "

@@ -4,11 +4,12 @@
 `shoal.timestepping.updates` (the integrators' updates) with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
 (``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
-``half_step``, ``symplectic_correct``, ``pc_correct``) from one source.
+``half_step``, ``symplectic_correct``, ``pc_correct``, ``move_bodies``, ``rotate_wall_vectors``) from one
+source.
 """
 
 from ..physics import build_physics
-from ..physics.body_motion import make_body_motion
+from ..physics.body_motion import make_body_motion, make_wall_vector_rotation
 from ..physics.damping import make_damping
 from ..physics.periodic_wrap import make_periodic_wrap
 from ..timestepping.updates import make_updates
@@ -39,6 +40,7 @@ def attach_loops(backend, jit, for_each, spec, target):
     for name, fn in make_updates(phys.named_jit, spec, phys.unpack).items():
         setattr(backend, name, for_each(fn))
     backend.move_bodies = for_each(make_body_motion(phys.named_jit, spec))
+    backend.rotate_wall_vectors = for_each(make_wall_vector_rotation(phys.named_jit, spec))
     backend.wrap_periodic = for_each(make_periodic_wrap(phys.named_jit, spec, phys.unpack))
     backend.damp = for_each(make_damping(phys.named_jit, spec))
     phys.named_jit.verify()  # every factory has returned: the identities name what will be compiled

@@ -17,7 +17,10 @@ hydrostatic and acceleration terms (Adami et al. 2012, Eq. 27):
     p_b = ( sum_f p_f W_bf + (g - a_b) . sum_f rho_f r_bf W_bf ) / sum_f W_bf,
 
 r_bf = r_b - r_f, over the fluid neighbours f, with a_b the wall's
-prescribed acceleration (zero for a fixed wall). p_b is clamped at zero
+prescribed acceleration at b (zero for a fixed wall). For a moving wall that rotates it is that of
+the rigid motion at the particle, a_b = a_d + alpha x r + omega x (omega x r), r = r_b - c - d(t) the
+particle's position from the motion's pivot (`shoal.physics.body_motion`), so each particle of a
+flap takes its own acceleration (Adami et al. 2012, Eq. 27, with a_b per particle). p_b is clamped at zero
 from below (a wall never pulls fluid in: the DBC keeps rho_b >= rho0 for the
 same reason), and the wall's density is the Tait equation of state solved
 for it, rho_b = rho0 (1 + p_b / B)^(1/gamma), so that the pressure term, the
@@ -30,21 +33,24 @@ condition for smoothed particle hydrodynamics", J. Comput. Phys. 231
 (2012) 7057-7075.
 """
 
+from .body_motion import motion_layout
 from .eos import GAMMA
 from .spec import FLUID, MOVING, REPULSIVE
 
 
 def make_wall_pressure(jit, spec, kernels, pressure, make_gather, unpack):
-    """Return ``particle_wall_pressure(i, pos, rho, kind, idp, motion_of, macc, cell, cell_start, grid_dims,
+    """Return ``particle_wall_pressure(i, pos, rho, kind, idp, motion_of, table, cell, cell_start, grid_dims,
     Parr)`` writing the extrapolated density of boundary particle i into ``rho[i]``.
 
-    `macc` (n_motions, dim) holds each motion's acceleration; `motion_of`
-    maps a particle id (`idp`) to its motion (read for moving boundary
-    particles only).
+    `table` is the motion table (`shoal.physics.body_motion.motion_layout`: each motion's acceleration,
+    and its pivot, displacement, angular velocity and acceleration where it rotates); `motion_of` maps a
+    particle id (`idp`) to its motion (read for moving boundary particles only).
     """
     F = spec.float_type
     dim = spec.dim
     zero, one = F(0.0), F(1.0)
+    lay = motion_layout(dim)
+    PIV, DISP, OMG, ACC, ALPHA, ROTATES = lay.pivot, lay.disp, lay.omega, lay.acc, lay.alpha, lay.rotates
     inv_gamma = F(1.0 / GAMMA)
     w, _ = kernels
 
@@ -63,7 +69,38 @@ def make_wall_pressure(jit, spec, kernels, pressure, make_gather, unpack):
     gather = make_gather(jit, spec, sum_pair)
 
     @jit
-    def particle_wall_pressure(i, pos, rho, kind, idp, motion_of, macc, cell, cell_start, grid_dims, Parr):
+    def wall_acceleration(i, pos, m, table):
+        """(a_x, a_y, a_z) of moving wall particle i of motion m: a_d + alpha x r + omega x (omega x r),
+        r = x_i - c - d (2D: rotation about y, omega x (omega x r) = -omega_y^2 r)."""
+        ax = F(table[m, ACC])
+        if dim == 3:
+            ay = F(table[m, ACC + 1])
+            az = F(table[m, ACC + 2])
+        else:
+            ay = zero
+            az = F(table[m, ACC + 1])
+        if table[m, ROTATES] != 0.0:
+            if dim == 2:
+                rx = F(pos[i, 0] - (table[m, PIV] + table[m, DISP]))
+                rz = F(pos[i, 1] - (table[m, PIV + 1] + table[m, DISP + 1]))
+                om, al = F(table[m, OMG]), F(table[m, ALPHA])
+                ax += al * rz - om * om * rx
+                az += -al * rx - om * om * rz
+            else:
+                rx = F(pos[i, 0] - (table[m, PIV] + table[m, DISP]))
+                ry = F(pos[i, 1] - (table[m, PIV + 1] + table[m, DISP + 1]))
+                rz = F(pos[i, 2] - (table[m, PIV + 2] + table[m, DISP + 2]))
+                wx, wy, wz = F(table[m, OMG]), F(table[m, OMG + 1]), F(table[m, OMG + 2])
+                bx, by, bz = F(table[m, ALPHA]), F(table[m, ALPHA + 1]), F(table[m, ALPHA + 2])
+                # omega x r, then omega x (omega x r)
+                ux, uy, uz = wy * rz - wz * ry, wz * rx - wx * rz, wx * ry - wy * rx
+                ax += (by * rz - bz * ry) + (wy * uz - wz * uy)
+                ay += (bz * rx - bx * rz) + (wz * ux - wx * uz)
+                az += (bx * ry - by * rx) + (wx * uy - wy * ux)
+        return ax, ay, az
+
+    @jit
+    def particle_wall_pressure(i, pos, rho, kind, idp, motion_of, table, cell, cell_start, grid_dims, Parr):
         k = kind[i]
         if k == FLUID or k >= REPULSIVE:
             return
@@ -74,13 +111,7 @@ def make_wall_pressure(jit, spec, kernels, pressure, make_gather, unpack):
         if s > zero:
             ax, ay, az = zero, zero, zero
             if k == MOVING:
-                m = motion_of[idp[i]]
-                ax = macc[m, 0]
-                if dim == 3:
-                    ay = macc[m, 1]
-                    az = macc[m, 2]
-                else:
-                    az = macc[m, 1]
+                ax, ay, az = wall_acceleration(i, pos, motion_of[idp[i]], table)
             # 2D stores (x, z): the gather's dz is the z difference and dy is zero
             p = (sp + (P.gx - ax) * sx + (P.gy - ay) * sy + (P.gz - az) * sz) / s
             if p < zero:
