@@ -89,7 +89,7 @@ def test_angular_rates_are_the_derivatives_and_the_body_starts_in_place(motion):
     pts = np.array([[0.3, 0.0, 0.4], [-0.05, 0.02, 0.7], [0.0, 0.0, 0.0]])
     for t in (0.13, 0.61, 1.37, 2.9, 7.3):
         th, w, al = motion.angle(t)
-        (a, wa, ala), (b, wb, alb) = motion.angle(t + e), motion.angle(t - e)
+        (a, wa, _), (b, wb, _) = motion.angle(t + e), motion.angle(t - e)
         assert w == pytest.approx((a - b) / (2 * e), rel=1e-6, abs=1e-9)
         assert al == pytest.approx((wa - wb) / (2 * e), rel=1e-5, abs=1e-7)
         k = motion.rigid_kinematics(t)
