@@ -304,6 +304,25 @@ def test_verlet_resume_in_process_is_bitwise(tmp_path):
     assert all(np.array_equal(x, y) for x, y in zip(a["extra"], b["extra"]))
 
 
+def test_resume_with_relaxation_zones_is_bitwise(tmp_path):
+    # the zones' targets are functions of the time and the case alone (nothing of theirs is in a
+    # checkpoint): a resumed run relaxes toward the same targets at the same times, bitwise
+    from shoal.relaxation import LinearTarget, RelaxationZone
+
+    case = shoal.cases.dam_break_2d(dp=0.01, end_time=0.05, output_interval=0.05)
+    zones = [RelaxationZone(start=0.08, end=0.0, level=0.2, ramp_time=0.01,
+                            target=LinearTarget(height=0.02, period=0.5, depth=0.2)),
+             RelaxationZone(start=0.1, end=0.146)]
+    case = case.model_copy(update={"checkpoint": Checkpointing(wall_interval=0.0), "relaxation": zones})
+    ref = run_case(case, tmp_path / "ref", plot=False, handle_signals=False)
+    part = run_case(case, tmp_path / "cut", plot=False, max_steps=penultimate(ref.steps), handle_signals=False)
+    res = shoal.resume_run(tmp_path / "cut", plot=False, handle_signals=False)
+    assert res.steps == ref.steps and part.steps < ref.steps
+    a, b = _state(ref.checkpoint), _state(res.checkpoint)
+    for k in ("pos", "vel", "rho", "idp"):
+        assert np.array_equal(a[k], b[k]), k
+
+
 def penultimate(steps):
     """A step count about 60 % through a run, not a multiple of 7."""
     n = int(0.6 * steps)

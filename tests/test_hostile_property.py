@@ -187,13 +187,16 @@ TABLES = [
     '[[probes]]\ntype = "pressure"\nname = {S}\npoints = [[{N}, 0.0, {N}]]\nmethod = {S}\ninterval = {N}',
     '[domain]\nlo = [{N}, {N}, {N}]\nhi = [{N}, {N}, {N}]\nperiodic = [{S}]',
     '[[damping]]\nstart = [{N}, 0.0, 0.0]\nend = [{N}, 0.0, 0.0]\nrate = {N}',
+    '[[relaxation]]\nstart = {N}\nend = {N}\ntime_scale = {N}\ntarget = { type = {S}, height = {N}, period = {N}, '
+    'depth = {N} }',
+    '[[relaxation]]\nstart = {N}\nend = {N}\nlevel = {N}\ntarget = { type = "motion", motion = {S}, origin = {N} }',
     '[[planes]]\npoint = [{N}, {N}, {N}]\nnormal = [{N}, {N}, {N}]',
     '[[symmetry_planes]]\npoint = [{N}, {N}, {N}]\nnormal = [{N}, {N}, {N}]',
     '[[fluids]]\nvelocity = [{N}, {N}, {N}]\nshape = { type = "box", lo = [{N}, {N}, {N}], hi = [{N}, {N}, {N}] }',
 ]
 # names and numbers that fit, so that an added table is often valid but for one part
 FITTING_STRINGS = ['"p"', '"s"', '"tank"', '"x"', '"y"', '"z"', '"case.toml"', '"."', '"/dev/null"', '"bed.csv"',
-                   '"rock.stl"', '"linear"']
+                   '"rock.stl"', '"linear"', '"still"']
 FITTING_NUMBERS = ["0.0", "0.1", "0.3", "0.5", "1.0", "2", "3", "0.01"]
 KEY_VALUE = re.compile(r"^(\s*[A-Za-z_][\w.-]*\s*=\s*)(.*)$")
 NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?:e[+-]?\d+)?(?![\w.])")

@@ -867,6 +867,40 @@ def test_rotating_flap_two_ranks_matches_one(mpiexec, tmp_path):
     assert np.max(np.abs(by_id[1][fluid] - by_id[0][fluid])) <= 0.01 * dp
 
 
+def test_relaxation_zones_two_ranks_match_one(mpiexec, tmp_path):
+    """Relaxation zones under MPI: a 2D tank 2 m long (dp = 0.05 m) with a linear-wave zone at its left end
+    and a still-water zone at its right, each on one rank's slab, to t = 0.2 s on 2 ranks against 1. The
+    relaxation is elementwise (each rank relaxes the particles it owns), so the fluid stays within 0.01 dp
+    of the single-process run (round-off of the pair sums' order)."""
+    import shoal
+    from shoal.geometry import Box, Tank
+    from shoal.output.vtu import read_vtu
+    from shoal.relaxation import LinearTarget, RelaxationZone
+
+    d = 0.4
+    case = shoal.Case(name="rz", dim=2, dp=0.05, end_time=0.2, fluid=shoal.Fluid(depth=d, surface_level=d),
+                      solids=[shoal.Solid(shape=Tank(lo=(0, 0, 0), hi=(2.0, 0, 0.6)))],
+                      fluids=[shoal.FluidRegion(shape=Box(lo=(0, 0, 0), hi=(2.0, 0, d)))],
+                      output=shoal.Output(interval=0.2),
+                      relaxation=[RelaxationZone(start=0.6, end=0.0, ramp_time=0.05,
+                                                 target=LinearTarget(height=0.05, period=1.0, depth=d)),
+                                  RelaxationZone(start=1.4, end=2.0)])
+    _run_one_and_two(mpiexec, case, tmp_path)
+    p1, d1 = read_vtu(tmp_path / "one" / "rz_0001.vtu")[:2]
+    p2, d2 = read_vtu(tmp_path / "two" / "rz_0001.pvtu")[:2]
+    x1, x2 = np.empty_like(p1), np.empty_like(p2)
+    x1[np.asarray(d1["id"])] = p1
+    x2[np.asarray(d2["id"])] = p2
+    kinds = np.empty(len(p1), int)
+    kinds[np.asarray(d1["id"])] = d1["kind"]
+    p0 = read_vtu(tmp_path / "one" / "rz_0000.vtu")[0]
+    x0 = np.empty_like(p0)
+    x0[np.asarray(read_vtu(tmp_path / "one" / "rz_0000.vtu")[1]["id"])] = p0
+    fluid = kinds == 0
+    assert np.max(np.abs(x1[fluid] - x0[fluid])) > 0.002  # the zone moved the water
+    assert np.max(np.abs(x2[fluid] - x1[fluid])) <= 0.01 * case.dp
+
+
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
 def test_stop_signal_on_two_ranks_checkpoints_and_resumes(mpiexec, tmp_path, sig):
     """A stop signal to ``mpiexec -n 2 shoal run`` (which forwards it to every rank; a batch system
@@ -1014,7 +1048,7 @@ def test_the_distributed_model_overrides_no_physics_method():
     from shoal.parallel.model import DistributedModel
 
     physics = ("compute_rates", "time_step_limit", "apply_filter", "check", "free_surface", "body_force",
-               "apply_damping", "move_bodies", "wall_forces")
+               "apply_damping", "apply_relaxation", "move_bodies", "wall_forces")
     assert all(hasattr(Model, m) for m in physics)
     assert not [m for m in physics if m in vars(DistributedModel)]
     hooks = ("refresh_ghosts", "ghosts_spent", "clear_ghost_rates", "reduce", "raise_together", "reduce_array",

@@ -15,6 +15,9 @@ class _Model:
     def apply_damping(self, zones, dt):
         self.calls.append(("damping", len(zones), dt))
 
+    def apply_relaxation(self, zones, t, dt):
+        self.calls.append(("relaxation", len(zones), t, dt))
+
     def apply_filter(self, kind):
         self.calls.append(("filter", kind))
 
@@ -22,11 +25,12 @@ class _Model:
         self.calls.append(("check", step))
 
 
-def _sim(damping=()):
+def _sim(damping=(), relaxation=()):
     model = _Model()
     integrator = SimpleNamespace(resets=0)
     integrator.reset_density_history = lambda: setattr(integrator, "resets", integrator.resets + 1)
-    return SimpleNamespace(model=model, integrator=integrator, damping=list(damping), step_count=0, time=0.0)
+    return SimpleNamespace(model=model, integrator=integrator, damping=list(damping), relaxation=list(relaxation),
+                           step_count=0, time=0.0)
 
 
 def _steps(sim, stages, n, dt=0.1):
@@ -37,13 +41,14 @@ def _steps(sim, stages, n, dt=0.1):
             stage(sim, dt)
 
 
-def test_default_order_is_damping_then_filter_then_check():
+def test_default_order_is_damping_then_relaxation_then_filter_then_check():
     stages = default_stages(SPHOptions(shepard_every=2), check_every=1)
-    assert [s.name for s in stages] == ["damping", "density filter", "stability check"]
-    sim = _sim(damping=[object()])
+    assert [s.name for s in stages] == ["damping", "relaxation", "density filter", "stability check"]
+    sim = _sim(damping=[object()], relaxation=[object(), object()])
     _steps(sim, stages, 2)
-    assert sim.model.calls == [("damping", 1, 0.1), ("check", 1), ("damping", 1, 0.1), ("filter", "shepard"),
-                               ("check", 2)]
+    # the relaxation's targets are those of the step's end time
+    assert sim.model.calls == [("damping", 1, 0.1), ("relaxation", 2, 0.1, 0.1), ("check", 1), ("damping", 1, 0.1),
+                               ("relaxation", 2, 0.2, 0.1), ("filter", "shepard"), ("check", 2)]
     assert sim.integrator.resets == 1  # the filtered density is not undone by the integrator's history
 
 

@@ -34,6 +34,7 @@ from .geometry.generate import FluidInput, Particles, SolidInput, generate, supp
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
 from .probes import AnyProbe
+from .relaxation import RelaxationZone, resolve_zone
 from .options import SPHOptions
 from .physics.constants import smoothing_length, speed_of_sound
 from .physics.spec import FLUID
@@ -288,6 +289,9 @@ class Case(BaseModel):
     motions : list of motions (see :mod:`shoal.motions`)
     symmetry_planes : list of SymmetryPlane
     damping : list of DampingZone
+    relaxation : list of RelaxationZone
+        Relaxation zones (`shoal.relaxation`): the velocity relaxed toward still water (an absorber), a
+        linear wave or the sea of an irregular or focused motion (a generator).
     planes : list of WallPlane
     probes : list of PointProbes / WaveGauge (`shoal.probes`)
     domain : Domain, optional
@@ -324,6 +328,7 @@ class Case(BaseModel):
     motions: list[AnyMotion] = []
     symmetry_planes: list[SymmetryPlane] = []
     damping: list[DampingZone] = []
+    relaxation: list[RelaxationZone] = []
     planes: list[WallPlane] = []
     probes: list[AnyProbe] = []
     domain: Domain | None = None
@@ -389,6 +394,11 @@ class Case(BaseModel):
             if abs(n[0]) > 1e-9 or abs(n[2]) > 1e-9 or abs(abs(n[1]) - 1.0) > 1e-9:
                 raise ValueError(f"symmetry_planes[{i}].normal = {list(n)}: only planes y = const are supported; "
                                  "use [0.0, 1.0, 0.0] or [0.0, -1.0, 0.0]")
+        for i, zone in enumerate(self.relaxation):
+            try:
+                resolve_zone(zone, self.motions, self.fluid.surface_level)
+            except ValueError as err:
+                raise ValueError(f"relaxation[{i}]: {err}") from None
         seen = set()
         for i, pr in enumerate(self.probes):
             if (pr.type, pr.name) in seen:
@@ -396,6 +406,11 @@ class Case(BaseModel):
                                  "file; give each probe its own name")
             seen.add((pr.type, pr.name))
         return self
+
+    def relaxation_terms(self):
+        """The relaxation zones resolved against the case (`shoal.relaxation.RelaxationTerms`: the target's
+        components, the still-water level), in the order of `relaxation`."""
+        return [resolve_zone(z, self.motions, self.fluid.surface_level) for z in self.relaxation]
 
     def _check_times(self, c0):
         """Refuse an interval or a fixed time step below a hundredth of the stable time step.

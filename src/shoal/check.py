@@ -24,6 +24,17 @@ and velocity 3 x float64, density and pressure float64, id and kind int32,
 connectivity, offsets and cell types; measured on written files: 80-84)."""
 
 
+def check_relaxation_zones(case, lo, hi):
+    """Refuse a relaxation zone (`shoal.relaxation.RelaxationZone`) that lies outside the domain's x range
+    [`lo`, `hi`] (`InputError`): it would relax nothing."""
+    from .errors import InputError
+
+    for i, zone in enumerate(case.relaxation):
+        if zone.hi <= lo[0] or zone.lo >= hi[0]:
+            raise InputError(f"relaxation[{i}]: the zone x = {zone.start:g} .. {zone.end:g} m lies outside the "
+                             f"domain's x = [{lo[0]:.4g}, {hi[0]:.4g}] m and would relax nothing; put it inside")
+
+
 def check_case(case):
     """Lines describing `case`: particles, memory, time step, output size,
     checkpoint size. Raises `InputError` for what would stop the run: a
@@ -40,6 +51,7 @@ def check_case(case):
         m.kinematics(0.0)  # reads a time-series file now: a missing or bad one is an error here, not in the run
     check_motion_speeds(case.motions, case.sound_speed, case.end_time, case.motion_reach())
     lo, hi = case.resolved_domain()
+    check_relaxation_zones(case, lo, hi)
     o = case.options
     dim = case.dim
     h = case.smoothing_length
@@ -97,6 +109,8 @@ def check_case(case):
                  + f"), {', '.join(when)}; the newest {cfg.keep} kept: up to {cfg.keep * ck_end / 2**20:.3g} MiB")
     if case.motions:
         lines.append("  motions: " + ", ".join(f"{m.name} ({m.type})" for m in case.motions))
+    for i, zone in enumerate(case.relaxation):
+        lines.append(f"  relaxation[{i}]: {zone.describe()}")
     from .advice import case_warnings
 
     lines += [f"  warning: {w}" for w in case_warnings(case)]

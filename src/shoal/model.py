@@ -435,6 +435,23 @@ class Model:
             b.timed(b.damp, self.n, (self.pos, self.vel, self.kind, s0[0], s0[1], s0[2], e[0], e[1], e[2],
                                      1.0 / L, float(z.rate), float(dt)))
 
+    def apply_relaxation(self, zones, t, dt):
+        """Relax the fluid velocity in the relaxation zones (`shoal.relaxation.RelaxationTerms`) toward their
+        targets at time `t` [s], over a step `dt` [s] (`shoal.physics.relaxation`). Each zone's per-component
+        terms are written on the host into a buffer made at its first step, and copied into the backend's."""
+        b = self.backend
+        buffers = self.__dict__.setdefault("_relaxation_buffers", {})
+        for z in zones:
+            if id(z) not in buffers or buffers[id(z)][0] is not z:
+                host = z.buffer()
+                buffers[id(z)] = (z, host, host if b.name == "cpu" else b.asarray(host))
+            _, host, terms = buffers[id(z)]
+            z.fill(float(t), host)
+            if terms is not host:
+                b.copy_into(terms, host, len(host))
+            b.timed(b.relax, self.n, (self.pos, self.vel, self.kind, z.start, z.inv_len, z.sign, z.origin, z.level,
+                                      z.depth, float(dt) / z.time_scale, z.count, terms))
+
     def move_bodies(self, t):
         """Place the moving boundary particles where their motions put them at time `t` [s], with their
         velocities (`shoal.physics.body_motion`): one `rigid_kinematics` call per motion fills the motion

@@ -195,6 +195,7 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     ck = point.ck
     sim = Simulation(model, case.end_time)
     sim.damping = list(case.damping)
+    sim.relaxation = case.relaxation_terms()
     if procs.rank == 0:
         write_case(case, out_dir / "case.toml")
         if ck is None:

@@ -4,14 +4,15 @@
 `shoal.timestepping.updates` (the integrators' updates) with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
 (``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
-``half_step``, ``symplectic_correct``, ``pc_correct``, ``move_bodies``, ``rotate_wall_vectors``) from one
-source.
+``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``move_bodies``,
+``rotate_wall_vectors``, ``wrap_periodic``) from one source.
 """
 
 from ..physics import build_physics
 from ..physics.body_motion import make_body_motion, make_wall_vector_rotation
 from ..physics.damping import make_damping
 from ..physics.periodic_wrap import make_periodic_wrap
+from ..physics.relaxation import make_relaxation
 from ..timestepping.updates import make_updates
 
 PHYSICS_LOOPS = {"pr2": "particle_pr2", "rates": "particle_rates", "shepard": "shepard", "mls": "mls",
@@ -43,6 +44,7 @@ def attach_loops(backend, jit, for_each, spec, target):
     backend.rotate_wall_vectors = for_each(make_wall_vector_rotation(phys.named_jit, spec))
     backend.wrap_periodic = for_each(make_periodic_wrap(phys.named_jit, spec, phys.unpack))
     backend.damp = for_each(make_damping(phys.named_jit, spec))
+    backend.relax = for_each(make_relaxation(phys.named_jit, spec))
     phys.named_jit.verify()  # every factory has returned: the identities name what will be compiled
 
 

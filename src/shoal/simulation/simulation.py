@@ -1,7 +1,7 @@
 """Simulation: runs a Model with a time integrator, per-step stages and scheduled callbacks.
 
 Each step is the integrator's, then the `stages` in their stated order
-(`shoal.simulation.stages`: damping, density filter, stability check).
+(`shoal.simulation.stages`: damping, relaxation, density filter, stability check).
 
 Everything periodic (writers, probes, checks, progress) is a callback with
 a schedule. Output times of `TimeInterval` schedules are hit exactly: the
@@ -53,11 +53,13 @@ class Simulation:
         from ..case import Case
 
         self.damping = []
+        self.relaxation = []  # shoal.relaxation.RelaxationTerms: the case's zones resolved
         if isinstance(model, Case):
             from ..build import build_model
 
             self.case = model
             self.damping = list(model.damping)
+            self.relaxation = model.relaxation_terms()
             if end_time is None:
                 end_time = model.end_time
             model = build_model(model, backend)
@@ -142,7 +144,7 @@ class Simulation:
 
     def step(self):
         """Advance one time step: the integrator, then the `stages` in order
-        (`shoal.simulation.stages`: damping, density filter, stability check)."""
+        (`shoal.simulation.stages`: damping, relaxation, density filter, stability check)."""
         m = self.model
         m.time = self.time
         try:

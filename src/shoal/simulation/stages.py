@@ -5,11 +5,17 @@
 
 1. `Damping`: the damping zones relax the velocity in their strip
    (``sim.damping``, the case's ``[[damping]]``; `Model.apply_damping`);
-2. `DensityFilter`: every ``shepard_every`` steps the Shepard filter, or
+2. `Relaxation`: the relaxation zones relax the velocity toward their
+   targets at the step's end time (``sim.relaxation``, the case's
+   ``[[relaxation]]`` resolved by `Case.relaxation_terms`;
+   `Model.apply_relaxation`). After the damping (the two act on separate
+   strips, so their order matters only where a case overlaps them) and
+   before the density filter, which does not touch the velocity;
+3. `DensityFilter`: every ``shepard_every`` steps the Shepard filter, or
    every ``mls_every`` steps the MLS filter, re-initialises the density
    (`Model.apply_filter`), and the integrator forgets its density history
    (Verlet's previous density) so the filtered field is not undone;
-3. `StabilityCheck`: every ``check_every`` steps the particles are checked
+4. `StabilityCheck`: every ``check_every`` steps the particles are checked
    for NaN, a density outside its band or a particle gone wild
    (`Model.check`, `InstabilityError` naming where and why).
 
@@ -28,6 +34,18 @@ class Damping:
     def __call__(self, sim, dt):
         if sim.damping:
             sim.model.apply_damping(sim.damping, dt)
+
+
+class Relaxation:
+    """Relax the velocity in the relaxation zones of ``sim.relaxation`` toward their targets at ``sim.time``,
+    the end of the step (none: nothing)."""
+
+    name = "relaxation"
+
+    def __call__(self, sim, dt):
+        zones = getattr(sim, "relaxation", None)
+        if zones:
+            sim.model.apply_relaxation(zones, sim.time, dt)
 
 
 class DensityFilter:
@@ -66,5 +84,6 @@ class StabilityCheck:
 
 
 def default_stages(options, check_every=1):
-    """The stages of a step for `options`, in their order: damping, density filter, stability check."""
-    return [Damping(), DensityFilter(options.shepard_every, options.mls_every), StabilityCheck(check_every)]
+    """The stages of a step for `options`, in their order: damping, relaxation, density filter, stability
+    check."""
+    return [Damping(), Relaxation(), DensityFilter(options.shepard_every, options.mls_every), StabilityCheck(check_every)]
