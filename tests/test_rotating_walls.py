@@ -644,3 +644,19 @@ def test_flap_wave_height_one_and_two_wavelengths_away(tmp_path):
               f"{h / flap.height - 1:+.1%}), {wall:.0f} s")
     for h in heights.values():
         assert abs(h / flap.height - 1) < FINE_TOLERANCE
+
+
+@pytest.mark.validation
+def test_flap_wave_height_in_deeper_water(tmp_path):
+    """Issue 31 asks the flap's heights at two depths, kd < 1 and kd > 1.5: the flume above with a shorter
+    wave, d = 0.2 m, T = 0.65 s, H = 0.02 m (kd = 1.98, L = 0.635 m, H / L = 0.031), at the same 3 particles
+    in the height (dp = 0.0067 m, 30 in the depth), the height at 1 and 2 wavelengths from the flap against
+    the target of `flap_height_to_stroke` (`FINE_TOLERANCE`). Measured -0.5 % at 1 L and +1.1 % at 2 L (669 s
+    on 2 threads)."""
+    flap, wl, heights, wall = _flap_wave_run(tmp_path, 0.02 / 3, 0.2, 0.02, 0.65, [1.0, 2.0], ramp_periods=2.0)
+    assert 1.5 < flap.wavenumber * 0.2
+    for x, h in heights.items():
+        print(f"flap flume, kd = {flap.wavenumber * 0.2:.2f}: H = {h:.4f} m at x = {x:.2f} m = {x / wl:.1f} L "
+              f"(target {flap.height} m, {h / flap.height - 1:+.1%}), {wall:.0f} s")
+    for h in heights.values():
+        assert abs(h / flap.height - 1) < FINE_TOLERANCE
