@@ -50,7 +50,7 @@ from pydantic import Field, PrivateAttr, field_validator, model_validator
 
 from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
 from .waves.components import focused_components, random_phase_components
-from .waves.dispersion import group_velocity, wavenumber
+from .waves.dispersion import group_velocity, regular_wavenumber, wavenumber
 from .waves.spectra import AnySpectrum
 from .waves.transfer import flap_height_to_stroke, piston_height_to_stroke
 
@@ -275,20 +275,7 @@ class PistonWavemaker(Motion):
     def _a_wave_that_exists(self):
         """Refuse a period without a finite wavelength, and a height above the breaking limit of Miche (1944),
         H_max = 0.142 L tanh(k d): no regular wave that high exists in that depth."""
-        try:
-            k = wavenumber(self.period, self.depth)
-        except (OverflowError, ZeroDivisionError):
-            k = math.nan
-        if not (math.isfinite(k) and k > 0 and math.isfinite(2.0 * math.pi / k)):
-            raise ValueError(f"period = {self.period:g} s in {self.depth:g} m of water gives no finite wavelength; "
-                             "give the period of a water wave in seconds")
-        length = 2.0 * math.pi / k
-        h_max = 0.142 * length * math.tanh(k * self.depth)
-        if self.height > h_max:
-            raise ValueError(f"height = {self.height:g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
-                             f"{h_max:.3g} m (Miche 1944) of a {self.period:g} s wave in {self.depth:g} m of water "
-                             f"(L = {length:.3g} m): no regular wave that high exists; give a lower height or a "
-                             "longer period")
+        k = regular_wavenumber(self.height, self.period, self.depth)
         ratio = piston_height_to_stroke(k, self.depth)
         stroke = self.height / ratio if ratio > 0 else math.inf
         if not stroke <= 1000.0 * self.depth:
@@ -627,20 +614,7 @@ class FlapWavemaker(RotatingMotion):
             raise ValueError(f"hinge = {self.hinge:g} m is not below the still-water level d = {self.depth:g} m: a "
                              "flap hinged there moves no water; give hinge < depth (0: hinged at the bed)")
         _hinge_axis(self.direction)
-        try:
-            k = wavenumber(self.period, self.depth)
-        except (OverflowError, ZeroDivisionError):
-            k = math.nan
-        if not (math.isfinite(k) and k > 0 and math.isfinite(2.0 * math.pi / k)):
-            raise ValueError(f"period = {self.period:g} s in {self.depth:g} m of water gives no finite wavelength; "
-                             "give the period of a water wave in seconds")
-        length = 2.0 * math.pi / k
-        h_max = 0.142 * length * math.tanh(k * self.depth)
-        if self.height > h_max:
-            raise ValueError(f"height = {self.height:g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
-                             f"{h_max:.3g} m (Miche 1944) of a {self.period:g} s wave in {self.depth:g} m of water "
-                             f"(L = {length:.3g} m): no regular wave that high exists; give a lower height or a "
-                             "longer period")
+        k = regular_wavenumber(self.height, self.period, self.depth)
         ratio = flap_height_to_stroke(k, self.depth, self.hinge)
         stroke = self.height / ratio if ratio > 0 else math.inf
         arm = self.depth - self.hinge

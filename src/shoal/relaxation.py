@@ -63,7 +63,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from .geometry.shapes import PositiveReal, Real, Spec
-from .waves.dispersion import wavenumber
+from .waves.dispersion import regular_wavenumber, wavenumber
 
 TERM_COLUMNS = 4
 """Columns of the per-component terms `RelaxationTerms.fill` writes: k_n, omega_n t + phi_n (mod 2 pi),
@@ -129,18 +129,7 @@ class LinearTarget(Spec):
     @model_validator(mode="after")
     def _a_wave_that_exists(self):
         """Refuse a period without a finite wavelength, and a height above Miche's (1944) breaking limit."""
-        try:
-            k = wavenumber(self.period, self.depth)
-        except (OverflowError, ZeroDivisionError):
-            k = math.nan
-        if not (math.isfinite(k) and k > 0):
-            raise ValueError(f"period = {self.period:g} s in {self.depth:g} m of water gives no finite wavelength; "
-                             "give the period of a water wave in seconds")
-        length = 2.0 * math.pi / k
-        h_max = 0.142 * length * math.tanh(k * self.depth)
-        if self.height > h_max:
-            raise ValueError(f"height = {self.height:g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
-                             f"{h_max:.3g} m (Miche 1944) of a {self.period:g} s wave in {self.depth:g} m of water")
+        regular_wavenumber(self.height, self.period, self.depth)
         return self
 
 

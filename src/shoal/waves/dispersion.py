@@ -103,3 +103,27 @@ def group_velocity(k, depth, g=GRAVITY):
         phase = np.where(k > 0, np.sqrt(g * np.tanh(k * depth) / np.where(k > 0, k, 1.0)), math.sqrt(g * depth))
         out = 0.5 * phase * (1.0 + ratio)
     return float(out) if out.ndim == 0 else out
+
+
+def regular_wavenumber(height, period, depth, g=GRAVITY):
+    """Wavenumber k [1/m] of a regular wave of `height` H [m] and `period` T [s] in `depth` d [m] that exists.
+
+    Raises ValueError (one line) for a period without a finite wavelength, and for a height above the
+    breaking limit of Miche (1944), H_max = 0.142 L tanh(k d): no regular wave that high exists in that depth.
+    Used by every kind of regular wave a case can ask for (the piston and flap paddles, a relaxation zone's
+    linear target), so that all refuse alike."""
+    try:
+        k = wavenumber(period, depth, g)
+    except (OverflowError, ZeroDivisionError):
+        k = math.nan
+    if not (math.isfinite(k) and k > 0 and math.isfinite(2.0 * math.pi / k)):
+        raise ValueError(f"period = {period:g} s in {depth:g} m of water gives no finite wavelength; "
+                         "give the period of a water wave in seconds")
+    length = 2.0 * math.pi / k
+    h_max = 0.142 * length * math.tanh(k * depth)
+    if height > h_max:
+        raise ValueError(f"height = {height:g} m is above the breaking limit H_max = 0.142 L tanh(kd) = "
+                         f"{h_max:.3g} m (Miche 1944) of a {period:g} s wave in {depth:g} m of water "
+                         f"(L = {length:.3g} m): no regular wave that high exists; give a lower height or a "
+                         "longer period")
+    return k
