@@ -26,7 +26,8 @@ LAYERS = [
      "shoal.faults"],
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
     ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.neighbours", "shoal.backends",
-     "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.waves", "shoal.relaxation", "shoal.analysis", "shoal.output",
+     "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.waves", "shoal.waves.second_order",
+     "shoal.relaxation", "shoal.analysis", "shoal.output",
      "shoal.memory",
      "shoal.simulation.resources",
      "shoal.parallel.decomposition", "shoal.parallel.gpu", "shoal.particle_store"],
