@@ -7,6 +7,15 @@ start); nothing before the zone (xi <= 0); the weight w = (exp(xi^3.5) - 1) / (e
 coefficient c = 1 - (1 - w)^(dt / tau); the target (u, w) summed over the components from the terms the host
 wrote for the time (`shoal.relaxation.RelaxationTerms.fill`); then v <- v + c (v_target - v), the lateral
 velocity (3D) relaxed toward 0.
+
+One formula serves every target: with z' = z - z_c measured from the zone's clipping ceiling z_c and clipped
+to [-D, 0] (D the ceiling's height above the bed), u = sum C_n (e^{k_n z'} + e^{-k_n (z' + 2D)}) cos(theta_n)
+and w = sum D_n (e^{k_n z'} - e^{-k_n (z' + 2D)}) sin(theta_n), which are 2 e^{-k_n D} cosh(k_n z_b) and
+2 e^{-k_n D} sinh(k_n z_b) at the height z_b = z' + D above the bed. A linear target (Airy) has its ceiling
+at the still-water level (D = d, C_n = s r a_n omega_n / (1 - e^{-2 k_n d})); a nonlinear one (Fenton's
+stream-function wave, Fenton 1988; Stokes' fifth order, Fenton 1985; by raschii) has it at its crest, each
+harmonic a component, C_n = s r U_n e^{k_n (D - d)} / (1 + e^{-2 k_n d}), and its uniform current a component
+of k_n = 0 (e^0 + e^0 = 2, e^0 - e^0 = 0).
 """
 
 import math
@@ -19,9 +28,10 @@ def make_relaxation(jit, spec):
     compiled with `jit`.
 
     Arguments after the particle arrays: the zone's inner end `start` [m] and 1 / (end - start) [1/m], the
-    direction `sign` (+1 or -1) and `origin` x_0 [m] of the target, the still-water `level` [m] and `depth`
-    d [m], `steps` = dt / tau, the number of components `count` and the (count, 4) float64 `terms` of the
-    time (k_n, omega_n t + phi_n, s r a_n omega_n / (1 - e^{-2 k_n d}), -r a_n omega_n / (1 - e^{-2 k_n d})).
+    direction `sign` (+1 or -1) and `origin` x_0 [m] of the target, the clipping ceiling `level` z_c [m] (the
+    still-water level of a linear target, the crest of a nonlinear one) and its height `depth` D [m] above
+    the bed, `steps` = dt / tau, the number of components `count` and the (count, 4) float64 `terms` of the
+    time (k_n, omega_n t + phi_n, C_n, D_n of the module docstring).
     """
     F = spec.float_type
     dim = spec.dim
@@ -32,9 +42,9 @@ def make_relaxation(jit, spec):
     @jit
     def relax(i, pos, vel, kind, start, inv_len, sign, origin, level, depth, steps, count, terms):
         """Relaxation zone (Jacobsen et al. 2012): w = (exp(xi^3.5) - 1) / (e - 1) at xi = (x - start) /
-        (end - start), c = 1 - (1 - w)^(dt / tau), v <- v + c (v_target - v) with the linear-theory target
-        u = sum C_n (e^{kz} + e^{-k(z+2d)}) cos(theta_n), w = sum D_n (e^{kz} - e^{-k(z+2d)}) sin(theta_n),
-        theta_n = (omega_n t + phi_n) - s k_n (x - x_0), z from the still-water level clipped to [-d, 0]."""
+        (end - start), c = 1 - (1 - w)^(dt / tau), v <- v + c (v_target - v) with the target
+        u = sum C_n (e^{kz} + e^{-k(z+2D)}) cos(theta_n), w = sum D_n (e^{kz} - e^{-k(z+2D)}) sin(theta_n),
+        theta_n = (omega_n t + phi_n) - s k_n (x - x_0), z from the ceiling `level` clipped to [-D, 0]."""
         if kind[i] == FLUID:
             xi = (pos[i, 0] - start) * inv_len
             if xi > 0.0:
@@ -43,7 +53,7 @@ def make_relaxation(jit, spec):
                 else:
                     w = (math.exp(F(xi) ** exponent) - one) / e_minus_1
                 c = one - (one - w) ** F(steps)
-                d = F(depth)
+                d = F(depth)  # D
                 z = F(pos[i, dim - 1] - level)
                 if z > zero:
                     z = zero
