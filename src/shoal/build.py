@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .active_absorption import absorbing_paddles
 from .errors import InputError
 from .model import Model
 from .motions import check_motion_speeds
-from .physics.spec import FIXED, MOVING, REPULSIVE, REPULSIVE_MOVING
+from .physics.spec import FIXED, FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING
 from .probes.placement import check_buried_probes, check_probes
 
 
@@ -37,6 +38,11 @@ def build_model(case, backend="cpu"):
     kinds[on_rep & (p.kinds == FIXED)] = REPULSIVE
     kinds[on_rep & (p.kinds == MOVING)] = REPULSIVE_MOVING
     fl = case.fluid
+    still = fl.surface_level
+    if still is None and any(getattr(m, "absorption", None) is not None for m in case.motions):
+        still = float(p.positions[p.kinds == FLUID, 2].max()) + 0.5 * case.dp  # the top layer's surface
+    motions = absorbing_paddles(case.motions, p.positions, motion_of, still_water=still, dp=case.dp,
+                                h=Model.smoothing_length(case.options, case.dim, case.dp), dim=case.dim)
     from .parallel import world
 
     cls = Model
@@ -44,7 +50,7 @@ def build_model(case, backend="cpu"):
         from .parallel.model import DistributedModel as cls
     model = cls(p.positions, kinds, dp=case.dp, dim=case.dim, domain=case.resolved_domain(),
                 options=case.options, rho0=fl.rho0, gravity=fl.gravity, fluid_height=fl.depth, u_max=fl.u_max,
-                surface_z=fl.surface_level, velocities=p.velocities, motions=case.motions, motion_of=motion_of,
+                surface_z=fl.surface_level, velocities=p.velocities, motions=motions, motion_of=motion_of,
                 wall_normals=p.normals,
                 periodic=tuple(case.domain.periodic) if case.domain else (),
                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)

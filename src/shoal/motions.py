@@ -48,9 +48,11 @@ from typing import Annotated, Literal, NamedTuple, Union
 import numpy as np
 from pydantic import Field, PrivateAttr, field_validator, model_validator
 
+from .active_absorption import ActiveAbsorption
 from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
-from .waves.components import focused_components, random_phase_components
+from .waves.components import WaveComponents, focused_components, random_phase_components
 from .waves.dispersion import group_velocity, regular_wavenumber, wavenumber
+from .waves.second_order import regular_second_order, second_order_paddle
 from .waves.spectra import AnySpectrum
 from .waves.transfer import flap_height_to_stroke, piston_height_to_stroke
 
@@ -178,6 +180,92 @@ def _flap_angle(x, xd, xdd, arm):
     return math.atan(q), qd / s, (qdd * s - 2.0 * q * qd * qd) / (s * s)
 
 
+def _envelope(t, tr, stop=None):
+    """(r, dr/dt, d2r/dt2) of a paddle's envelope: the start-up ramp `_cosine_ramp` over `tr`, times, from the
+    time `stop` on (None: never), the same ramp run backwards, 1 - r(t - stop), which brings it to rest."""
+    r, dr, ddr = _cosine_ramp(t, tr)
+    if stop is None:
+        return r, dr, ddr
+    q, dq, ddq = _cosine_ramp(t - stop, tr)
+    s, ds, dds = 1.0 - q, -dq, -ddq
+    return r * s, dr * s + r * ds, ddr * s + 2.0 * dr * ds + r * dds
+
+
+class WavePaddle(NamedTuple):
+    """What an active absorber (`shoal.active_absorption`) needs to know of a wave paddle (``wave_paddle()``).
+
+    Attributes
+    ----------
+    kind : {"piston", "flap"}
+    depth : float
+        d [m] at the paddle.
+    hinge : float or None
+        A flap's hinge height l [m] above the bed; None for a piston.
+    components : shoal.waves.WaveComponents
+        The target's components: eta = sum a_n cos(omega_n t - k_n x + phi_n).
+    paddle_amplitudes : numpy.ndarray
+        b_n = a_n / (H/S)_n [m]: X(t) = sum b_n sin(omega_n t + phi_n) at the still-water level.
+    period : float
+        The characteristic period T_c [s]: the wave's, or the spectrum's peak period.
+    ramp_end : float
+        The end of the start-up ramp [s].
+    direction : numpy.ndarray
+        The unit horizontal vector e the paddle pushes along.
+    """
+
+    kind: str
+    depth: float
+    hinge: float | None
+    components: WaveComponents
+    paddle_amplitudes: np.ndarray
+    period: float
+    ramp_end: float
+    direction: np.ndarray
+
+
+def _with_second_order(x, r, dr, ddr, second, t):
+    """(X, X', X'') of a first-order excursion `x` = (X1, X1', X1'') plus a second-order correction `second`
+    (`shoal.waves.SecondOrderPaddle`, None: none) ramped by r(t)^2: the correction scales with the square of the
+    amplitude, so the ramp that brings the first order up brings it up squared, r^2 X2, with the derivatives
+    2 r r' X2 + r^2 X2' and (2 r'^2 + 2 r r'') X2 + 4 r r' X2' + r^2 X2''."""
+    if second is None or r == 0.0:
+        return x
+    t = max(t, 0.0)
+    x2 = float(second.displacement(t))
+    v2 = float(second.velocity(t))
+    a2 = float(second.acceleration(t))
+    return (x[0] + r * r * x2, x[1] + 2.0 * r * dr * x2 + r * r * v2,
+            x[2] + (2.0 * dr * dr + 2.0 * r * ddr) * x2 + 4.0 * r * dr * v2 + r * r * a2)
+
+
+def _regular_components(height, period, depth, k):
+    """One component: eta = (H / 2) cos(omega t - k x), the elevation of X(t) = (S / 2) sin(omega t)."""
+    one = np.ones(1)
+    return WaveComponents(one / period, one * (0.5 * height), np.zeros(1), one * k, float(depth), 1.0 / period)
+
+
+class WavePaddleMixin:
+    """The surface excursion and the rigid motion with a shifted excursion, shared by the wave paddles
+    (`PistonWavemaker`, `FlapWavemaker`, `SpectralPaddle`): each defines ``excursion(t)``, ``envelope(t)``,
+    ``wave_paddle()``, ``is_flap``, a piston ``_unit()`` (its axis) and a flap ``arm``, ``rotation_axis`` and
+    ``rotation_pivot``."""
+
+    def offset_kinematics(self, t, dx, du, da, acceleration=True):
+        """The rigid motion at time t [s] with the face's excursion at the still-water level shifted by dx
+        [m], moving at du [m/s] and accelerating at da [m/s^2] more than the target (an active absorber's
+        correction): a piston translates by (X + dx) e; a flap turns by atan((X + dx) / L) about its hinge."""
+        if not self.is_flap:
+            base = self.rigid_kinematics(t, acceleration)
+            e = self._unit()
+            return _translation(base.displacement + dx * e, base.velocity + du * e,
+                                base.acceleration + (da * e if acceleration else 0.0))
+        x, xd, xdd = self.excursion(t)
+        theta, w, al = _flap_angle(x + dx, xd + du, xdd + da, self.arm)
+        a = self.rotation_axis
+        return RigidKinematics(np.zeros(3), np.zeros(3), np.zeros(3), rotation_matrix(a, theta), w * a,
+                               (al if acceleration else 0.0) * a, self.rotation_pivot, True)
+
+
 def _hinge_axis(direction):
     """The unit axis z x e of a flap pushing along the horizontal `direction` e: a positive angle about it swings
     the flap's top along +e. Raises ValueError for a direction that is not horizontal."""
@@ -254,14 +342,20 @@ class ConstantVelocity(Motion):
         return math.hypot(*self.velocity) if self.start <= t_end else 0.0
 
 
-class PistonWavemaker(Motion):
+class PistonWavemaker(WavePaddleMixin, Motion):
     """A piston paddle making regular waves of `height` H [m] and `period` T
     [s] in water of `depth` d [m].
 
     Stroke S = H / (H/S) with Biesel's transfer function
     (`piston_height_to_stroke`), and paddle displacement along `direction`
     X(t) = r(t) (S/2) sin(omega t), with the start-up ramp
-    r(t) = (1 - cos(pi t / t_r)) / 2 for t < t_r = `ramp_periods` T.
+    r(t) = (1 - cos(pi t / t_r)) / 2 for t < t_r = `ramp_periods` T. With a
+    `duration` t_s [s] the paddle stops: from t_s the envelope r(t) is
+    multiplied by the same ramp run backwards, 1 - r(t - t_s), so that it
+    is at rest from t_s + t_r on. `absorption` adds active absorption
+    (`shoal.active_absorption`): the paddle then also cancels the waves
+    that come back to it, and goes on doing so once it has stopped making
+    its own.
     """
 
     type: Literal["piston"] = "piston"
@@ -270,6 +364,10 @@ class PistonWavemaker(Motion):
     depth: PositiveReal
     direction: Vec3 = (1.0, 0.0, 0.0)
     ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 2.0
+    duration: Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)] | None = None
+    absorption: ActiveAbsorption | None = None
+    order: Literal[1, 2] = 1
+    _second: tuple | None = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _a_wave_that_exists(self):
@@ -294,21 +392,65 @@ class PistonWavemaker(Motion):
 
     def _ramp(self, t):
         tr = self.ramp_periods * self.period
-        if tr <= 0 or t >= tr:
-            return 1.0, 0.0
-        if t <= 0:
-            return 0.0, 0.0
-        return 0.5 * (1 - math.cos(math.pi * t / tr)), 0.5 * math.pi / tr * math.sin(math.pi * t / tr)
+        if self.duration is None:
+            if tr <= 0 or t >= tr:
+                return 1.0, 0.0
+            if t <= 0:
+                return 0.0, 0.0
+            return 0.5 * (1 - math.cos(math.pi * t / tr)), 0.5 * math.pi / tr * math.sin(math.pi * t / tr)
+        return _envelope(t, tr, self.duration)[:2]
 
     def _unit(self):
         d = np.asarray(self.direction, float)
         return d / np.linalg.norm(d)
+
+    @property
+    def is_flap(self):
+        return False
+
+    def envelope(self, t):
+        """r(t): the start-up ramp, and the stop after `duration`."""
+        return _envelope(t, self.ramp_periods * self.period, self.duration)[0]
+
+    def second_order(self):
+        """The second-order correction X2 of the paddle (`shoal.waves.regular_second_order`, Schäffer 1996:
+        the displacement at twice the frequency that cancels the free second harmonic), or None for
+        ``order = 1``; computed once for the wave it belongs to."""
+        if self.order == 1:
+            return None
+        key = (self.height, self.period, self.depth)
+        if self._second is None or self._second[0] != key:
+            self._second = (key, regular_second_order(self.height, self.period, self.depth, "piston"))
+        return self._second[1]
+
+    def excursion(self, t):
+        """(X, X', X'') at time t [s]: the paddle's displacement along `direction` [m] and its derivatives
+        (with ``order = 2``, the second-order correction r(t)^2 X2(t) added)."""
+        w = 2.0 * math.pi / self.period
+        r, dr, ddr = _envelope(t, self.ramp_periods * self.period, self.duration)
+        ts = max(t, 0.0)
+        a = 0.5 * self.stroke
+        s, c = math.sin(w * ts), math.cos(w * ts)
+        x = (r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s))
+        return _with_second_order(x, r, dr, ddr, self.second_order(), t)
+
+    def wave_paddle(self):
+        """The paddle as an active absorber sees it (`WavePaddle`)."""
+        k = self.wavenumber
+        return WavePaddle("piston", float(self.depth), None, _regular_components(self.height, self.period,
+                                                                                 self.depth, k),
+                          np.array([0.5 * self.stroke]), float(self.period), self.ramp_periods * self.period,
+                          self._unit())
 
     def _speed_times(self, t_end):
         """The ramp and two periods after it: the motion is periodic from then on."""
         return np.linspace(0.0, min(t_end, (self.ramp_periods + 2.0) * self.period), _SAMPLES)
 
     def kinematics(self, t):
+        if self.order == 2:
+            x, u, _ = self.excursion(t)
+            e = self._unit()
+            return e * x, e * u
         w = 2 * math.pi / self.period
         r, dr = self._ramp(t)
         t = max(t, 0.0)
@@ -579,7 +721,7 @@ class RotationMotion(RotatingMotion):
         return np.linspace(0.0, min(t_end, (self.ramp_periods + 2.0) * self.period), _SAMPLES)
 
 
-class FlapWavemaker(RotatingMotion):
+class FlapWavemaker(WavePaddleMixin, RotatingMotion):
     """A flap paddle making regular waves of `height` H [m] and `period` T [s] in water of `depth` d [m],
     hinged `hinge` l [m] above the bed (0: on the bed; negative: below it, through a slot), rotating about the
     horizontal hinge line through `pivot` (default (0, 0, l): the bed at z = 0), normal to `direction` e.
@@ -594,6 +736,7 @@ class FlapWavemaker(RotatingMotion):
     theta_0 = atan(S / (2 L)) either side of vertical (S = 2 L tan theta_0) and its top first moves along e.
     The excursion at the surface is sinusoidal, as the piston's (and for small theta_0, theta(t) ~ r(t)
     theta_0 sin(omega t)); the same sum of components drives an irregular flap (`IrregularWaves`).
+    `duration` and `absorption` as `PistonWavemaker`'s.
     """
 
     type: Literal["flap"] = "flap"
@@ -604,6 +747,10 @@ class FlapWavemaker(RotatingMotion):
     pivot: Vec3 | None = None
     direction: Vec3 = (1.0, 0.0, 0.0)
     ramp_periods: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 2.0
+    duration: Annotated[float, Field(gt=0, allow_inf_nan=False, strict=True)] | None = None
+    absorption: ActiveAbsorption | None = None
+    order: Literal[1, 2] = 1
+    _second: tuple | None = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _a_wave_that_exists(self):
@@ -659,16 +806,47 @@ class FlapWavemaker(RotatingMotion):
         """L: the wall speed `peak_speed` gives is the face's at the still-water level."""
         return self.arm
 
+    @property
+    def is_flap(self):
+        return True
+
+    def envelope(self, t):
+        """r(t): the start-up ramp, and the stop after `duration`."""
+        return _envelope(t, self.ramp_periods * self.period, self.duration)[0]
+
+    def second_order(self):
+        """The second-order correction X2 of the face's excursion at the still-water level
+        (`shoal.waves.regular_second_order` for a flap hinged at `hinge`), or None for ``order = 1``."""
+        if self.order == 1:
+            return None
+        key = (self.height, self.period, self.depth, self.hinge)
+        if self._second is None or self._second[0] != key:
+            self._second = (key, regular_second_order(self.height, self.period, self.depth, "flap", self.hinge))
+        return self._second[1]
+
+    def excursion(self, t):
+        """(X, X', X'') at time t [s]: the face's excursion at the still-water level [m] and its derivatives
+        (with ``order = 2``, the second-order correction r(t)^2 X2(t) added)."""
+        w = 2.0 * math.pi / self.period
+        r, dr, ddr = _envelope(t, self.ramp_periods * self.period, self.duration)
+        ts = max(t, 0.0)
+        a = 0.5 * self.stroke
+        s, c = math.sin(w * ts), math.cos(w * ts)
+        x = (r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s))
+        return _with_second_order(x, r, dr, ddr, self.second_order(), t)
+
     def angle(self, t):
         """(theta, theta', theta'') at time t [s] from the face's excursion X(t) at the surface (class
         docstring)."""
-        w = 2.0 * math.pi / self.period
-        r, dr, ddr = _cosine_ramp(t, self.ramp_periods * self.period)
-        t = max(t, 0.0)
-        a = 0.5 * self.stroke
-        s, c = math.sin(w * t), math.cos(w * t)
-        return _flap_angle(r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s),
-                           self.arm)
+        return _flap_angle(*self.excursion(t), self.arm)
+
+    def wave_paddle(self):
+        """The paddle as an active absorber sees it (`WavePaddle`)."""
+        e = np.asarray(self.direction, float)
+        return WavePaddle("flap", float(self.depth), float(self.hinge),
+                          _regular_components(self.height, self.period, self.depth, self.wavenumber),
+                          np.array([0.5 * self.stroke]), float(self.period), self.ramp_periods * self.period,
+                          e / np.linalg.norm(e))
 
     def _speed_times(self, t_end):
         """The ramp and two periods after it: the motion is periodic from then on."""
@@ -686,7 +864,7 @@ _SAMPLES_PER_PERIOD = 20
 """Samples per period of a spectral paddle's fastest component where its peak speed is sought."""
 
 
-class SpectralPaddle(Motion):
+class SpectralPaddle(WavePaddleMixin, Motion):
     """Base of the paddles driven by a sum of wave components (`IrregularWaves`, `FocusedWaves`): a piston, or
     a flap (``paddle = "flap"``).
 
@@ -722,7 +900,10 @@ class SpectralPaddle(Motion):
     paddle: str = "piston"
     hinge: Annotated[float, Field(allow_inf_nan=False, strict=True)] = 0.0
     pivot: Vec3 | None = None
+    absorption: ActiveAbsorption | None = None
+    order: Literal[1, 2] = 1
     _waves: object = PrivateAttr(default=None)
+    _second: tuple | None = PrivateAttr(default=None)
     _grid: tuple | None = PrivateAttr(default=None)
     _terms: tuple | None = PrivateAttr(default=None)
 
@@ -886,6 +1067,10 @@ class SpectralPaddle(Motion):
         not move: (0, 0) (its rotation: `rigid_kinematics`)."""
         if self.paddle == "flap":
             return np.zeros(3), np.zeros(3)
+        if self.order == 2:
+            x, u, _ = self.excursion(t)
+            e = self._unit()
+            return e * x, e * u
         b, omega, phi, bw, e, _ = self._signal()
         r, dr = self._ramp_factor(t)
         t = max(t, 0.0)
@@ -900,19 +1085,51 @@ class SpectralPaddle(Motion):
             return np.zeros(3)
         return super().acceleration(t, eps)
 
-    def angle(self, t):
-        """A flap's (theta [rad], dtheta/dt [rad/s], d2theta/dt2 [rad/s^2]) at time t [s]: theta = atan(X / L)
-        of the excursion X(t) at the surface (class docstring), with X'' = r'' s + 2 r' s' + r s''."""
+    @property
+    def is_flap(self):
+        return self.paddle == "flap"
+
+    def envelope(self, t):
+        """r(t): the start-up ramp."""
+        return _cosine_ramp(t, self.ramp)[0]
+
+    def second_order(self):
+        """The second-order correction X2 of the components (`shoal.waves.second_order_paddle`, Schäffer 1996:
+        the sub- and superharmonic paddle motion that cancels the spurious free waves), or None for
+        ``order = 1``; computed once for the components it belongs to (its cost grows as N^2)."""
+        if self.order == 1:
+            return None
+        w = self.wave_components
+        if self._second is None or self._second[0] is not w:
+            self._second = (w, second_order_paddle(w, self.paddle, self.hinge))
+        return self._second[1]
+
+    def excursion(self, t):
+        """(X, X', X'') at time t [s]: the excursion along `direction` [m] (a flap's face at the still-water
+        level) and its derivatives, X'' = r'' s + 2 r' s' + r s'' (with ``order = 2``, the second-order
+        correction r(t)^2 X2(t) added)."""
         b, omega, phi, bw, _, bw2 = self._signal()
-        tr = self.ramp
-        r, dr, ddr = _cosine_ramp(t, tr)
-        t = max(t, 0.0)
-        arg = omega * t + phi
+        r, dr, ddr = _cosine_ramp(t, self.ramp)
+        ts = max(t, 0.0)
+        arg = omega * ts + phi
         sin, cos = np.sin(arg), np.cos(arg)
         s = float(np.dot(b, sin))
         c = float(np.dot(bw, cos))
         a = -float(np.dot(bw2, sin))
-        return _flap_angle(r * s, dr * s + r * c, ddr * s + 2.0 * dr * c + r * a, self.arm)
+        return _with_second_order((r * s, dr * s + r * c, ddr * s + 2.0 * dr * c + r * a), r, dr, ddr,
+                                  self.second_order(), t)
+
+    def angle(self, t):
+        """A flap's (theta [rad], dtheta/dt [rad/s], d2theta/dt2 [rad/s^2]) at time t [s]: theta = atan(X / L)
+        of the excursion X(t) at the surface (`excursion`)."""
+        return _flap_angle(*self.excursion(t), self.arm)
+
+    def wave_paddle(self):
+        """The paddle as an active absorber sees it (`WavePaddle`)."""
+        flap = self.paddle == "flap"
+        return WavePaddle(self.paddle, float(self.depth), float(self.hinge) if flap else None,
+                          self.wave_components, self._signal()[0], 1.0 / self.spectrum.peak_frequency, self.ramp,
+                          self._unit())
 
     def rigid_kinematics(self, t, acceleration=True):
         """A piston's translation (`Motion.rigid_kinematics`); a flap's rotation by `angle` about its hinge."""
@@ -1003,8 +1220,10 @@ class SpectralPaddle(Motion):
     @property
     def max_displacement(self):
         """The largest |X(t)| [m] of the paddle over all times (the ramp only lessens it), sampled as
-        `peak_speed` samples the velocity: leave this much room behind the paddle's rest position."""
-        return float(np.max(np.abs(self._sampled()[1])))
+        `peak_speed` samples the velocity, plus the bound sum |c_p| of a second-order correction: leave this
+        much room behind the paddle's rest position."""
+        second = self.second_order()
+        return float(np.max(np.abs(self._sampled()[1]))) + (second.max_displacement if second is not None else 0.0)
 
 
 class IrregularWaves(SpectralPaddle):

@@ -186,6 +186,7 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     import time as _time
     from contextlib import nullcontext
 
+    from .active_absorption import AbsorbingPaddle
     from .casefile import dumps_case, write_case
     from .probes import make_recorder
     from .simulation import IterationInterval
@@ -208,6 +209,9 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     escaped, escaped_check = procs.escaped(out_dir, model, case, ck)
     model.sort()  # particles in cell order for the first samples
     probe_dir = procs.probe_dir(out_dir)
+    for paddle in model.motions:  # active absorption: every step, before the probes read the step
+        if isinstance(paddle, AbsorbingPaddle):
+            sim.add_callback(paddle, IterationInterval(1), name=f"absorption {paddle.name}")
     recorders = [make_recorder(p, probe_dir, case.dp, model) for p in case.probes]
     for rec in recorders:
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")

@@ -47,6 +47,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 from pydantic import Field, model_validator
 
+from ..analysis.kernel_sum import surface_level
 from ..geometry.shapes import PositiveReal, Real, Spec, Vec3
 from .recorder_state import Recorder
 
@@ -266,20 +267,6 @@ class PressureSensors(Spec):
 
 AnyProbe = Annotated[Union[PointProbes, WaveGauge, TestPoints, Tracker, MaxZGauge, RunupGauge, FlowGauge,
                            ForceGauge, PressureSensors], Field(discriminator="type")]
-
-
-def surface_level(z, s, threshold=0.5):
-    """Highest z where the kernel sum s (sampled upwards at z) is >= threshold,
-    linearly interpolated to the crossing; NaN if the line is all dry, z[-1]
-    if it is all wet."""
-    wet = s >= threshold
-    if not wet.any():
-        return float("nan")
-    k = int(np.flatnonzero(wet)[-1])
-    if k == len(z) - 1:
-        return float(z[-1])
-    s0, s1 = s[k], s[k + 1]
-    return float(z[k] + (s0 - threshold) / (s0 - s1) * (z[k + 1] - z[k]))
 
 
 def make_recorder(spec, out_dir, dp, model):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
+from .active_absorption import ActiveAbsorptionCase
 from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .dam_break import DamBreak2D
@@ -29,6 +30,7 @@ def all_cases():
         WaveFlume(),
         PeriodicRunup(),
         BridgePiers(),
+        ActiveAbsorptionCase(),
     ]
 
 
