@@ -175,6 +175,31 @@ def test_impact_pressure(tmp_path):
     assert len(rows(r.stdout, r"P\d\s+(probe|sensor)")) == 12
 
 
+def test_jonswap_flume_analysis_of_the_linear_record(tmp_path):
+    """`benchmarks/jonswap_flume.py --analyse-only` on gauge records written from the paddle's linear elevation
+    (`WaveComponents.elevation` at each gauge): over exactly one repeat period the periodogram holds each
+    component in its own bin, so Hm0 is the target's, Tp the peak component's period and every 0.1 fp band
+    from 0.7 to 1.5 fp the target's variance, to round-off and the CSV's 9 digits."""
+    sys.path.insert(0, str(BENCH))
+    try:
+        import jonswap_flume
+    finally:
+        sys.path.remove(str(BENCH))
+    case, info, paddle = jonswap_flume.build(0.1, components=32)
+    t = np.arange(0.0, info["window"][1] + 0.1, info["interval"])
+    for x in info["gauges"]:
+        eta = info["depth"] + paddle.elevation(x, t)
+        np.savetxt(tmp_path / f"gauge_x{x:g}.csv", np.column_stack([t, eta]), delimiter=",", fmt="%.9f",
+                   header="time,level", comments="")
+    run(BENCH / "jonswap_flume.py", "--dp", 0.1, "--components", 32, "--analyse-only", "--out", tmp_path)
+    out = json.loads((tmp_path / "jonswap_summary.json").read_text())
+    peak = paddle.wave_components.frequencies[np.argmax(paddle.wave_components.amplitudes)]
+    for g in out["gauges"].values():
+        assert abs(g["hm0_error"]) < 1e-5
+        assert g["tp"] == pytest.approx(1.0 / peak, rel=1e-9)
+        assert max(abs(b) for b in g["band_errors"]) < 1e-4
+
+
 def test_profile_phases():
     """The phases of a step of the 3D dam break: four timings that add up to 100 %."""
     r = run(BENCH / "profile_phases.py", "--dp", 0.03, "--steps", 2)
