@@ -9,6 +9,8 @@ the simulator, where a step of these few hundred particles takes seconds) to
 1e-5 m in position (dp = 37 mm) and 1e-3 relative in density.
 """
 
+import math
+
 import numpy as np
 import pytest
 from cuda_support import SIMULATOR, needs_cuda, run_module_under_simulator
@@ -504,6 +506,53 @@ def test_mdbc_walls_match_cpu(dim, precision, tol):
         a, b = _by_id(cpu, getattr(cpu, name)), _by_id(gpu, getattr(gpu, name))
         assert np.max(np.abs(a)) > 0, name
         assert np.max(np.abs(a - b)) <= tol * np.max(np.abs(a)), name
+
+
+@needs_cuda
+@pytest.mark.parametrize("paddle", ["piston", "flap"])
+def test_active_absorption_measures_and_moves_the_paddle_as_on_the_cpu(paddle):
+    """An absorbing paddle (`shoal.active_absorption`) in a small 2D tank with a wave on its surface (the
+    fluid's heights raised by a sine): the elevation it measures in front of itself (the probe kernel's
+    kernel sums on the CUDA backend), the correction it computes from it, and the walls it then places are
+    the CPU's (float64: the kernel sums to round-off, the paddle's particles to 1e-12 m)."""
+    from shoal.active_absorption import ActiveAbsorption
+    from shoal.case import Case, Fluid, FluidRegion, Solid
+    from shoal.geometry.shapes import Box, Tank
+    from shoal.motions import FlapWavemaker, PistonWavemaker
+
+    kind = PistonWavemaker if paddle == "piston" else FlapWavemaker
+    motion = kind(name="p", height=0.01, period=0.6, depth=0.1, ramp_periods=0.5,
+                  absorption=ActiveAbsorption(start=0.0))
+    case = Case(name="awas", dim=2, dp=0.0125, fluid=Fluid(depth=0.1, surface_level=0.1),
+                options={"precision": "float64"},
+                solids=[Solid(shape=Box(lo=(-0.05, 0, 0), hi=(0.0, 0, 0.15)), motion="p", layers=2),
+                        Solid(shape=Tank(lo=(-0.15, 0, 0), hi=(0.35, 0, 0.15)), layers=2)],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.35, 0, 0.1)))], motions=[motion])
+
+    class Sim:
+        def __init__(self, model):
+            self.model, self.time, self.step_count = model, 0.0, 0
+
+    states = []
+    for backend in ("cpu", "cuda"):
+        m = build_model(case, backend)
+        pos = m.host(m.pos).astype(np.float64)
+        fl = m.host(m.kind) == 0
+        pos[fl, -1] *= 1.0 + 0.15 * np.sin(2 * np.pi * pos[fl, 0] / 0.35)  # a surface that is no still water
+        m.backend.copy_into(m.pos, pos, m.n)
+        m.sort()
+        sim, c = Sim(m), m.motions[0]
+        seen = []
+        for k in range(1, 4):
+            sim.time, sim.step_count = 0.01 * k, k
+            c(sim)
+            m.move_bodies(sim.time + 0.005)
+            seen.append((c.measured, c.u_c))
+        states.append((seen, _by_id(m, m.pos)[_by_id(m, m.kind) == 2]))
+    (a, pa), (b, pb) = states
+    assert all(math.isfinite(x[0]) for x in a) and abs(a[-1][1]) > 1e-4  # measured, and corrected
+    np.testing.assert_allclose(np.array(b), np.array(a), rtol=1e-9, atol=1e-12)
+    assert np.max(np.abs(pa - pb)) < 1e-12
 
 
 @needs_cuda
