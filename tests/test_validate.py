@@ -77,7 +77,9 @@ def test_default_quick_set_leaves_long_cases_out_but_a_named_one_runs(tmp_path, 
     assert "not in the default quick set" in (tmp_path / "REPORT.md").read_text()
     (named,) = run_validation([_Long()], quick=True, out=tmp_path / "named", log=None)
     assert named.verdict == "FAIL" and "the default quick set must not run a long case" in named.reason
-    assert sum(c.cost for c in registry.all_cases() if c.cost <= v.QUICK_SET_LIMIT) < 15 * 60
+    chosen = v.default_quick_set(registry.all_cases())
+    assert sum(c.cost for c in registry.all_cases() if c.name in chosen and not c.full_only) <= 15 * 60
+    assert {"hydrostatic", "poiseuille", "dam-break-2d"} <= chosen
 
 
 def test_impossible_tolerance_is_a_fail_not_a_crash(tmp_path):
