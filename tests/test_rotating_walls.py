@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from shoal.case import Case, DampingZone, Fluid, FluidRegion, Solid
+from shoal.case import Case, Fluid, FluidRegion, Solid
 from shoal.casefile import load_case, write_case
 from shoal.cli import main
 from shoal.errors import InputError
@@ -26,17 +26,10 @@ from shoal.motions import (FlapWavemaker, FocusedWaves, IrregularWaves, Rotation
                            rotation_matrix)
 from shoal.physics.spec import MOVING
 from shoal.runner import build_model
+from shoal.validation.flap import COARSE_TOLERANCE, FINE_TOLERANCE, flap_flume, flap_wave_heights
 from shoal.waves import JonswapSpectrum, PiersonMoskowitzSpectrum, flap_height_to_stroke, wavenumber
 
 PM = PiersonMoskowitzSpectrum(hs=0.05, tp=1.5)
-COARSE_TOLERANCE = 0.2
-"""Relative tolerance on the wave height of the coarse flap flume: about twice its measured error (+11 %, the
-SPH flume at 8 particles in the depth), and well inside the -46 % of a flap driven with a piston's stroke
-(Biesel's H/S = 1.015 for a piston against 0.549 for a flap at kd = 1.04)."""
-FINE_TOLERANCE = 0.05
-"""Relative tolerance on the wave height of the validation flap flume (20 particles in the depth): about twice
-its larger measured error (+2.6 % at 1 L, -1.0 % at 2 L), the error having fallen from +11 % and +7 % at 8 and
-10 particles in the depth."""
 
 
 # ------------------------------------------------------------------ rotations
@@ -187,19 +180,7 @@ def test_piston_paddles_are_unchanged_by_the_flap_keys():
 
 
 # ------------------------------------------------------------------ the kernels
-def _flap_case(motion, dp=0.02, depth=0.2, length=0.6, top=0.3, thickness=3, options=None, damping=(),
-               precision="float64", back=None, name="flap"):
-    """A 2D flume whose left wall is a flap of `thickness` layers, its face at x = 0, hinged at the bed
-    (z = 0), with room behind it for the top's back swing."""
-    opts = dict(options or dict(viscosity="laminar", nu=1e-6, visco_bound_factor=0.0, coef_h=1.5))
-    opts["precision"] = precision
-    t = thickness * dp
-    back = back if back is not None else t + top * 0.3 + 2 * dp
-    return Case(name=name, dim=2, dp=dp, end_time=1.0, fluid=Fluid(depth=depth, surface_level=depth),
-                options=opts, motions=[motion], damping=list(damping),
-                solids=[Solid(name="flap", shape=Box(lo=(-t, 0, 0), hi=(0, 0, top)), motion=motion.name),
-                        Solid(name="flume", shape=Tank(lo=(-back, 0, 0), hi=(length, 0, top)))],
-                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(length, 0, depth)))])
+_flap_case = flap_flume
 
 
 def _by_id(model, array):
@@ -564,58 +545,6 @@ def test_a_rotating_flap_run_resumes_bitwise(tmp_path):
         assert np.array_equal(a[k], b[k]), k
 
 
-def _flap_wave_run(out, dp, depth, height, period, gauges_l, ramp_periods, periods_measured=2, hinge=0.0, gap=0.5,
-                   zone=1.5):
-    """Run a 2D flume with a flap hinged at `hinge` (the wave flumes' scheme, float32) until the full waves have
-    passed the last gauge for `periods_measured` periods; the gauges are at `gauges_l` wavelengths from the
-    flap, a damping zone `zone` wavelengths long starts `gap` wavelengths beyond the last. Returns (flap, the
-    wavelength, {x: the mean height max - min over each of the last `periods_measured` periods}, wall s)."""
-    import time
-
-    from shoal.cases.wave_flume import WAVE_OPTIONS
-    from shoal.probes import ProbeRecorder, WaveGauge
-    from shoal.simulation import Simulation
-    from shoal.simulation.schedules import TimeInterval
-    from shoal.waves import group_velocity
-
-    flap = FlapWavemaker(name="flap", height=height, period=period, depth=depth, hinge=hinge,
-                         pivot=(0.0, 0.0, hinge), ramp_periods=ramp_periods)
-    k = flap.wavenumber
-    wl = 2 * math.pi / k
-    xs = [g * wl for g in gauges_l]
-    x_zone = xs[-1] + gap * wl
-    x_end = x_zone + zone * wl
-    top = depth + max(3 * height, 0.1)
-    case = _flap_case(flap, dp=dp, depth=depth, length=x_end, top=top, options=WAVE_OPTIONS[2],
-                      damping=[DampingZone(start=(x_zone, 0, 0), end=(x_end, 0, 0), rate=10.0)],
-                      precision="float32", back=4 * dp + top * math.tan(flap.angle_amplitude) + 3 * dp)
-    if hinge > 0:  # the water below the hinge is held by a fixed wall
-        case = case.model_copy(update={"solids": case.solids + [
-            Solid(name="sill", shape=Box(lo=(-3 * dp, 0, 0), hi=(0, 0, hinge)))]})
-        case.revalidate()
-    t_end = ramp_periods * period + xs[-1] / float(group_velocity(k, depth)) + (periods_measured + 0.5) * period
-    sim = Simulation(case, end_time=t_end)
-    recs = []
-    for x in xs:
-        rec = ProbeRecorder(WaveGauge(name=f"x{x:.3f}", x=x, z0=depth - 2 * height, z1=top, interval=period / 40),
-                            out, dp)
-        sim.add_callback(rec, TimeInterval(period / 40))
-        recs.append(rec)
-    t0 = time.perf_counter()
-    sim.run()
-    wall = time.perf_counter() - t0
-    heights = {}
-    for x, rec in zip(xs, recs):
-        rec.close()
-        t, z = np.array(rec.rows).T
-        hs = []
-        for j in range(periods_measured):
-            sel = (t > t_end - (j + 1) * period) & (t <= t_end - j * period)
-            hs.append(z[sel].max() - z[sel].min())
-        heights[x] = float(np.mean(hs))
-    return flap, wl, heights, wall
-
-
 def test_a_coarse_flap_flume_makes_waves_of_about_the_target_height(tmp_path):
     """The flap's wave one wavelength away (d = 0.2 m, T = 1 s, H = 0.03 m: kd = 1.04, L = 1.21 m), at a
     resolution that only a quick test affords: 8 particles in the depth (dp = 0.025 m), 1.2 in the height,
@@ -623,12 +552,15 @@ def test_a_coarse_flap_flume_makes_waves_of_about_the_target_height(tmp_path):
     zone 1 L long from 0.25 L beyond the gauge (about 25 s of one core). Measured +11.0 % against the
     target H of `flap_height_to_stroke` (+7.0 % at dp = 0.02 m with two periods measured, 0.5 L before a
     1.5 L zone; `COARSE_TOLERANCE`)."""
-    flap, wl, heights, wall = _flap_wave_run(tmp_path, 0.025, 0.2, 0.03, 1.0, [1.0], ramp_periods=1.0,
-                                             periods_measured=1, gap=0.25, zone=1.0)
-    (h,) = heights.values()
-    print(f"coarse flap flume: H = {h:.4f} m at 1 L (target {flap.height} m, {h / flap.height - 1:+.1%}), "
-          f"L = {wl:.3f} m, {wall:.1f} s")
-    assert abs(h / flap.height - 1) < COARSE_TOLERANCE
+    from shoal.validation.flap import FlapWaves
+
+    case = FlapWaves()  # the quick run of `shoal validate flap-waves`
+    res = case.run(True, "cpu", tmp_path)
+    _, passed = case.compare(res)
+    (flume,) = res.data["flumes"]
+    (h,) = flume["heights"].values()
+    print(f"coarse flap flume: H = {h:.4f} m at 1 L (target {flume['target']} m, {h / flume['target'] - 1:+.1%})")
+    assert abs(h / flume["target"] - 1) < COARSE_TOLERANCE and passed
 
 
 @pytest.mark.validation
@@ -638,7 +570,7 @@ def test_flap_wave_height_one_and_two_wavelengths_away(tmp_path):
     a damping zone 1.5 L long from 0.5 L beyond the last gauge): the height at 1 and 2 wavelengths from the
     flap against the target of `flap_height_to_stroke`. Measured +2.6 % at 1 L and -1.0 % at 2 L
     (`FINE_TOLERANCE`); 1,900 s on 2 cores shared with another run."""
-    flap, wl, heights, wall = _flap_wave_run(tmp_path, 0.01, 0.2, 0.03, 1.0, [1.0, 2.0], ramp_periods=2.0)
+    flap, wl, heights, wall = flap_wave_heights(tmp_path, 0.01, 0.2, 0.03, 1.0, [1.0, 2.0], ramp_periods=2.0)
     for x, h in heights.items():
         print(f"flap flume: H = {h:.4f} m at x = {x:.2f} m = {x / wl:.1f} L (target {flap.height} m, "
               f"{h / flap.height - 1:+.1%}), {wall:.0f} s")
@@ -653,7 +585,7 @@ def test_flap_wave_height_in_deeper_water(tmp_path):
     in the height (dp = 0.0067 m, 30 in the depth), the height at 1 and 2 wavelengths from the flap against
     the target of `flap_height_to_stroke` (`FINE_TOLERANCE`). Measured -0.5 % at 1 L and +1.1 % at 2 L (669 s
     on 2 threads)."""
-    flap, wl, heights, wall = _flap_wave_run(tmp_path, 0.02 / 3, 0.2, 0.02, 0.65, [1.0, 2.0], ramp_periods=2.0)
+    flap, wl, heights, wall = flap_wave_heights(tmp_path, 0.02 / 3, 0.2, 0.02, 0.65, [1.0, 2.0], ramp_periods=2.0)
     assert 1.5 < flap.wavenumber * 0.2
     for x, h in heights.items():
         print(f"flap flume, kd = {flap.wavenumber * 0.2:.2f}: H = {h:.4f} m at x = {x:.2f} m = {x / wl:.1f} L "
@@ -668,7 +600,7 @@ def test_flap_wave_height_in_shallower_water(tmp_path):
     in the height (dp = 0.01 m), at 1 and 2 wavelengths from the flap against the target of
     `flap_height_to_stroke` (`FINE_TOLERANCE`). Measured +2.2 % at 1 L and +0.6 % at 2 L (1,127 s on 2
     threads)."""
-    flap, wl, heights, wall = _flap_wave_run(tmp_path, 0.01, 0.2, 0.03, 1.3, [1.0, 2.0], ramp_periods=2.0)
+    flap, wl, heights, wall = flap_wave_heights(tmp_path, 0.01, 0.2, 0.03, 1.3, [1.0, 2.0], ramp_periods=2.0)
     assert flap.wavenumber * 0.2 < 1.0
     for x, h in heights.items():
         print(f"flap flume, kd = {flap.wavenumber * 0.2:.2f}: H = {h:.4f} m at x = {x:.2f} m = {x / wl:.1f} L "

@@ -7,6 +7,7 @@ from .active_absorption import ActiveAbsorptionCase
 from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .dam_break import DamBreak2D
+from .flap import FlapWaves
 from .hydrostatic import Hydrostatic
 from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
@@ -31,6 +32,7 @@ def all_cases():
         PeriodicRunup(),
         BridgePiers(),
         ActiveAbsorptionCase(),
+        FlapWaves(),
     ]
 
 
