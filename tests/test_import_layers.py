@@ -25,7 +25,7 @@ LAYERS = [
     ["shoal.errors", "shoal.version", "shoal.cache_lock", "shoal.data", "shoal.parallel", "shoal.environment",
      "shoal.faults"],
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
-    ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.neighbours", "shoal.backends",
+    ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.physics.shifting", "shoal.neighbours", "shoal.backends",
      "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.active_absorption", "shoal.waves", "shoal.waves.second_order",
      "shoal.relaxation", "shoal.analysis", "shoal.output",
      "shoal.memory",

@@ -422,6 +422,30 @@ class Model:
                                          g.gdims_arr, self.P, self.planes, wet, out))
         return self.host(out).copy()
 
+    def apply_shifting(self):
+        """Move the fluid particles by the particle shifting of the options (``shifting = "delta_plus"``:
+        Sun et al. 2017, `shoal.physics.shifting`), positions only.
+
+        Three passes over the positions of the step's end, then one that moves them: the wet walls and
+        the free-surface flags (`free_surface`'s), each particle's shift delta r_i = -C Ma (2h)^2
+        sum_j [1 + R (W_ij / W(dp))^4] grad_i W_ij V_j (tangential at and near the free surface, capped
+        at 0.1 dp) into a buffer, then r_i += delta r_i, so no shift reads a moved neighbour. C is
+        ``shifting_coef``, Ma = U_max / c0. The ghosts of a distributed model are refreshed first (their
+        own shifts are computed and dropped: the next sort replaces them); no array is allocated."""
+        self.refresh_ghosts()
+        self.ghosts_spent()
+        b, g = self.backend, self.grid
+        surface = self.scratch[(np.dtype(np.int8).str, 0)]
+        wet = self.scratch[(np.dtype(np.int32).str, 0)]  # free between sorts
+        out = self.scratch[(np.dtype(np.float64).str, self.dim)]  # the sort's; free between sorts
+        coef = self.options.shifting_coef * (self.u_max / self.c0) * (2.0 * self.h) ** 2
+        b.timed(b.wet_walls, self.n, (self.pos, self.kind, g.cell, g.cell_start, g.gdims_arr, self.P, wet))
+        b.timed(b.free_surface, self.n, (self.pos, self.rho, self.kind, g.cell, g.cell_start,
+                                         g.gdims_arr, self.P, self.planes, wet, surface))
+        b.timed(b.shift, self.n, (self.pos, self.rho, self.kind, g.cell, g.cell_start, g.gdims_arr, self.P,
+                                  self.planes, wet, surface, float(coef), 0.1 * self.dp, out))
+        b.timed(b.shift_apply, self.n, (self.pos, self.kind, out))
+
     def apply_damping(self, zones, dt):
         """Apply the damping zones (`shoal.case.DampingZone`) over a step dt [s]."""
         b = self.backend

@@ -22,6 +22,7 @@ INTEGRATORS = ("verlet", "symplectic", "predictor_corrector")
 TURBULENCE = ("none", "sps")
 PRECISIONS = ("float32", "float64")
 WALL_PRESSURES = ("dynamic", "adami", "mdbc")
+SHIFTINGS = ("none", "delta_plus")
 
 
 def _choice(name, value, allowed):
@@ -140,6 +141,15 @@ class SPHOptions:
     mls_every : int
         Re-initialise fluid density with the MLS filter of Colagrossi &
         Landrini (2003) every N steps (0 = off; 30 in the tidal-bore paper).
+    shifting : {"none", "delta_plus"}
+        Particle shifting once per step after the integrator (`shoal.physics.shifting`): "delta_plus"
+        moves each fluid particle by delta r = -C Ma (2h)^2 sum_j [1 + R (W_ij / W(dp))^4] grad W_ij V_j
+        (R = 0.2; Sun, Colagrossi, Marrone & Zhang 2017, the delta-plus-SPH model), keeping only the
+        part tangential to the free surface for particles at it (Marrone et al. 2010's detection) or
+        within 2h of it, and none for isolated particles; positions only. "none" (the default): off.
+    shifting_coef : float
+        The CFL-type coefficient C of the shift (0.2, shoal's default `cfl`); Ma = U_max / c0 is the
+        run's, 1 / `coef_sound`.
     integrator : {"symplectic", "verlet", "predictor_corrector"}
         Symplectic position-Verlet (Leimkuhler 1996; the default, as in
         DualSPHysics's examples), Verlet with an Euler step every
@@ -185,6 +195,8 @@ class SPHOptions:
     tensile_correction: bool = False
     shepard_every: int = 0
     mls_every: int = 0
+    shifting: str = "none"
+    shifting_coef: float = 0.2
     integrator: str = "symplectic"
     verlet_euler_every: int = 40
     cfl: float = 0.2
@@ -200,6 +212,8 @@ class SPHOptions:
         _choice("precision", self.precision, PRECISIONS)
         _choice("turbulence", self.turbulence, TURBULENCE)
         _choice("wall_pressure", self.wall_pressure, WALL_PRESSURES)
+        _choice("shifting", self.shifting, SHIFTINGS)
+        _positive("shifting_coef", self.shifting_coef)
         _positive("sps_cs", self.sps_cs, allow_zero=True)
         _positive("sps_ci", self.sps_ci, allow_zero=True)
         _positive("coef_h", self.coef_h)

@@ -60,12 +60,13 @@ def build_physics(jit, spec, target="cpu"):
     particle_wall_force = make_wall_force(j, spec, (w, grad_factor), viscous, make_gather, unpack)
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     sensor_moments = make_sensor_moments(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
-    wet_walls, free_surface = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
+    wet_walls, free_surface, surface_normal = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
                            particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
                            particle_wall_pressure=particle_wall_pressure, particle_mdbc=particle_mdbc,
                            particle_wall_force=particle_wall_force,
                            probe=probe, sensor_moments=sensor_moments, free_surface=free_surface, wet_walls=wet_walls,
+                           surface_normal=surface_normal,
                            named_jit=j,
                            unpack=unpack)

@@ -29,11 +29,13 @@ from .spec import FLUID
 
 
 def make_free_surface(jit, spec, kernels, make_gather, unpack):
-    """Return ``(wet_walls, free_surface)``:
+    """Return ``(wet_walls, free_surface, surface_normal)``:
     ``wet_walls(i, pos, kind, cell, cell_start, grid_dims, Parr, wet)`` sets wet[i] = 1 for a fluid
     particle and for a boundary particle with a fluid neighbour within 2h not lower than 0.35 h below
     it, else 0; ``free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, wet, out)``:
-    out[i] = 1 for a free-surface fluid particle, else 0 (dry boundary particles ignored)."""
+    out[i] = 1 for a free-surface fluid particle, else 0 (dry boundary particles ignored);
+    ``surface_normal(i, pos, rho, kind, cell, cell_start, gdims, P, planes, wet)``: the unit normal of step 1
+    (a device function for other per-particle functions, `shoal.physics.shifting`)."""
     F = spec.float_type
     dim = spec.dim
     zero, one = F(0.0), F(1.0)
@@ -93,18 +95,14 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
     gather_cone = make_gather(jit, spec, cone_pair)
 
     @jit
-    def free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, wet, out):
-        P = unpack(Parr)
-        out[i] = 0
-        if kind[i] != FLUID:
-            return
-        gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
+    def surface_normal(i, pos, rho, kind, cell, cell_start, gdims, P, planes, wet):
+        """(nx, ny, nz, nb, nbound): particle i's unit normal n_i = -sum_j V_j grad_i W_ij / |...| (step 1
+        of the module docstring, the plane-normal correction included; (0, 0, 0) when the sum vanishes,
+        a fully surrounded particle), and its numbers of wet neighbours and of boundary ones among
+        them. In 2D the normal's components are (x, 0, z)."""
         data = (rho, kind, wet)
         gx, gy, gz, nb, nbound = gather_grad(i, 0, (zero, zero, zero, 0, 0), pos, cell, cell_start, gdims,
                                              data, P)
-        if nb == 0:
-            out[i] = 1
-            return
         # n = -sum V grad W; grad_i W_ij = fr r_ij, summed above as (gx, gy, gz)
         nx, ny, nz = -gx, -gy, -gz
         # plane-normal correction: drop the part of n pointing into a plane within 2h
@@ -124,11 +122,25 @@ def make_free_surface(jit, spec, kernels, make_gather, unpack):
                     nz -= dot * pnz
         norm = (nx * nx + ny * ny + nz * nz) ** F(0.5)
         if norm == zero:
+            return zero, zero, zero, nb, nbound
+        return nx / norm, ny / norm, nz / norm, nb, nbound
+
+    @jit
+    def free_surface(i, pos, rho, kind, cell, cell_start, grid_dims, Parr, planes, wet, out):
+        P = unpack(Parr)
+        out[i] = 0
+        if kind[i] != FLUID:
+            return
+        gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
+        nx, ny, nz, nb, nbound = surface_normal(i, pos, rho, kind, cell, cell_start, gdims, P, planes, wet)
+        if nb == 0:
+            out[i] = 1
+            return
+        if nx == zero and ny == zero and nz == zero:
             return  # a fully surrounded particle
-        nx, ny, nz = nx / norm, ny / norm, nz / norm
         cmin = cos_wall if nbound > 0 else cos_fluid
-        covered = gather_cone(i, (nx, ny, nz, cmin), False, pos, cell, cell_start, gdims, data, P)
+        covered = gather_cone(i, (nx, ny, nz, cmin), False, pos, cell, cell_start, gdims, (rho, kind, wet), P)
         if not covered:
             out[i] = 1
 
-    return wet_walls, free_surface
+    return wet_walls, free_surface, surface_normal

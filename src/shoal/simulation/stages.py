@@ -11,11 +11,17 @@
    `Model.apply_relaxation`). After the damping (the two act on separate
    strips, so their order matters only where a case overlaps them) and
    before the density filter, which does not touch the velocity;
-3. `DensityFilter`: every ``shepard_every`` steps the Shepard filter, or
+3. `Shifting` (only with ``options.shifting`` other than "none"): the
+   fluid particles are moved toward a more regular distribution, their
+   normal part removed at the free surface (`Model.apply_shifting`,
+   `shoal.physics.shifting`). After the velocity stages, which read the
+   positions of the step's end, and before the density filter, so that
+   the filter's density is that of the shifted positions;
+4. `DensityFilter`: every ``shepard_every`` steps the Shepard filter, or
    every ``mls_every`` steps the MLS filter, re-initialises the density
    (`Model.apply_filter`), and the integrator forgets its density history
    (Verlet's previous density) so the filtered field is not undone;
-4. `StabilityCheck`: every ``check_every`` steps the particles are checked
+5. `StabilityCheck`: every ``check_every`` steps the particles are checked
    for NaN, a density outside its band or a particle gone wild
    (`Model.check`, `InstabilityError` naming where and why).
 
@@ -46,6 +52,15 @@ class Relaxation:
         zones = getattr(sim, "relaxation", None)
         if zones:
             sim.model.apply_relaxation(zones, sim.time, dt)
+
+
+class Shifting:
+    """Particle shifting (`Model.apply_shifting`, the scheme's ``shifting``): positions only."""
+
+    name = "shifting"
+
+    def __call__(self, sim, dt):
+        sim.model.apply_shifting()
 
 
 class DensityFilter:
@@ -84,6 +99,8 @@ class StabilityCheck:
 
 
 def default_stages(options, check_every=1):
-    """The stages of a step for `options`, in their order: damping, relaxation, density filter, stability
-    check."""
-    return [Damping(), Relaxation(), DensityFilter(options.shepard_every, options.mls_every), StabilityCheck(check_every)]
+    """The stages of a step for `options`, in their order: damping, relaxation, shifting (when the options
+    ask for it: an option that is off adds no stage), density filter, stability check."""
+    shifting = [Shifting()] if getattr(options, "shifting", "none") != "none" else []
+    return [Damping(), Relaxation(), *shifting, DensityFilter(options.shepard_every, options.mls_every),
+            StabilityCheck(check_every)]
