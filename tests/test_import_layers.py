@@ -26,7 +26,8 @@ LAYERS = [
      "shoal.faults"],
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
     ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.physics.shifting", "shoal.neighbours", "shoal.backends",
-     "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.active_absorption", "shoal.waves", "shoal.waves.second_order",
+     "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.mass_properties", "shoal.rigid_body",
+     "shoal.body_loads", "shoal.floating", "shoal.active_absorption", "shoal.waves", "shoal.waves.second_order",
      "shoal.relaxation", "shoal.analysis", "shoal.output",
      "shoal.memory",
      "shoal.simulation.resources",
