@@ -8,6 +8,7 @@ from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .dam_break import DamBreak2D
 from .flap import FlapWaves
+from .focused_wave import FocusedWave
 from .hydrostatic import Hydrostatic
 from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
@@ -30,6 +31,7 @@ def all_cases():
         SphericTest2(),
         WaveFlume(),
         PeriodicRunup(),
+        FocusedWave(),
         BridgePiers(),
         ActiveAbsorptionCase(),
         FlapWaves(),
