@@ -149,6 +149,8 @@ def main(argv=None):
                    help="let the still column settle this long [s] (velocities relaxed) before the wave starts")
     p.add_argument("--riemann", action="store_true", help="the Riemann pair terms (Zhang, Hu & Adams 2017)")
     p.add_argument("--wall-pressure", default="adami", choices=("dynamic", "adami", "mdbc"))
+    p.add_argument("--shifting", default="none", choices=("none", "delta_plus"),
+                   help="particle shifting (delta-plus-SPH, Sun et al. 2017)")
     p.add_argument("--csv", help="write the energy series (t, E, KE) here")
     a = p.parse_args(argv)
 
@@ -159,7 +161,8 @@ def main(argv=None):
     opts = SPHOptions(kernel=a.kernel, viscosity=a.viscosity, alpha=a.alpha, nu=a.nu,
                       density_diffusion=a.density_diffusion, delta=a.delta, coef_h=a.coef_h,
                       coef_sound=a.coef_sound, visco_bound_factor=a.visco_bound_factor, integrator=a.integrator,
-                      cfl=a.cfl, precision=a.precision, riemann=a.riemann, wall_pressure=a.wall_pressure)
+                      cfl=a.cfl, precision=a.precision, riemann=a.riemann, wall_pressure=a.wall_pressure,
+                      shifting=a.shifting)
     amp = 0.5 * a.height
     case, k, L, dp = build(a.dp, a.depth, a.period, amp, opts, bed=a.bed)
     w = 2 * math.pi / a.period
@@ -237,9 +240,9 @@ def main(argv=None):
     cg = 0.5 * w / k * (1 + 2 * k * a.depth / math.sinh(2 * k * a.depth))
     out = {
         "dp": dp, "bed": a.bed, "H_over_dp": a.height / dp, "particles": int(m.n), "steps": sim.step_count, "wall_s": round(wall, 1),
-        "options": {k_: getattr(opts, k_) for k_ in ("kernel", "viscosity", "alpha", "nu", "density_diffusion",
-                                                     "delta", "coef_h", "coef_sound", "visco_bound_factor",
-                                                     "integrator", "cfl", "precision")},
+        "options": {k_: getattr(opts, k_) for k_ in ("shifting", "kernel", "viscosity", "alpha", "nu",
+                                                     "density_diffusion", "delta", "coef_h", "coef_sound",
+                                                     "visco_bound_factor", "integrator", "cfl", "precision")},
         "E0_over_linear": float(e[0] / e_lin),  # initial energy (all kinetic) vs linear theory
         "gamma_per_s": float(gamma),
         "height_loss_per_period_percent": 100 * (1 - math.exp(-gamma * a.period)),
