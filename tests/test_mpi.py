@@ -824,6 +824,25 @@ def test_moving_wall_two_ranks_matches_one(mpiexec, tmp_path):
     assert g1.shape == g2.shape and np.max(np.abs(g1[:, 1] - g2[:, 1])) <= 0.01 * dp
 
 
+def _by_id_one_and_two(tmp_path, name, n):
+    """(start positions, [final positions of the 1-process run, of the 2-rank run]), each (n, 3) by particle id,
+    from the first and second snapshots of `_run_one_and_two`'s runs; every id is checked to appear once."""
+    from shoal.output.vtu import read_vtu
+
+    p0, d0 = read_vtu(tmp_path / "one" / f"{name}_0000.vtu")[:2]
+    by_id = []
+    for path in (tmp_path / "one" / f"{name}_0001.vtu", tmp_path / "two" / f"{name}_0001.pvtu"):
+        pts, data = read_vtu(path)[:2]
+        ids = np.asarray(data["id"])
+        assert np.array_equal(np.sort(ids), np.arange(n))
+        out = np.empty_like(pts)
+        out[ids] = pts
+        by_id.append(out)
+    x0 = np.empty_like(p0)
+    x0[np.asarray(d0["id"])] = p0
+    return x0, by_id
+
+
 def test_rotating_flap_two_ranks_matches_one(mpiexec, tmp_path):
     """A rotating wall under MPI: a 2D flume (1 m, dp = 0.02 m) whose left wall is a flap hinged at the bed
     (`FlapWavemaker`, no ramp), to t = 0.1 s on 2 ranks against 1. The flap is on rank 0 alone; rank 1 sets
@@ -834,7 +853,6 @@ def test_rotating_flap_two_ranks_matches_one(mpiexec, tmp_path):
     from shoal.case import Case, Fluid, FluidRegion, Output, Solid
     from shoal.geometry.shapes import Box, Tank
     from shoal.motions import FlapWavemaker
-    from shoal.output.vtu import read_vtu
 
     t_end, dp = 0.1, 0.02
     flap = FlapWavemaker(name="flap", height=0.04, period=0.8, depth=0.2, ramp_periods=0.0)
@@ -845,18 +863,7 @@ def test_rotating_flap_two_ranks_matches_one(mpiexec, tmp_path):
                         Solid(name="flume", shape=Tank(lo=(-0.16, 0, 0), hi=(1.0, 0, 0.3)))],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(1.0, 0, 0.2)))])
     _run_one_and_two(mpiexec, case, tmp_path)
-    p0, d0 = read_vtu(tmp_path / "one" / "flap_0000.vtu")[:2]
-    n = case.n_particles
-    by_id = []
-    for path in (tmp_path / "one" / "flap_0001.vtu", tmp_path / "two" / "flap_0001.pvtu"):
-        pts, data = read_vtu(path)[:2]
-        ids = np.asarray(data["id"])
-        assert np.array_equal(np.sort(ids), np.arange(n))
-        out = np.empty_like(pts)
-        out[ids] = pts
-        by_id.append(out)
-    x0 = np.empty_like(p0)
-    x0[np.asarray(d0["id"])] = p0
+    x0, by_id = _by_id_one_and_two(tmp_path, "flap", case.n_particles)
     kinds = case.particles().kinds
     moving = kinds == 2
     want = flap.point_kinematics(x0[moving], t_end)[0]
@@ -878,7 +885,6 @@ def test_active_absorption_two_ranks_matches_one(mpiexec, tmp_path):
     from shoal.case import Case, Fluid, FluidRegion, Output, Solid
     from shoal.geometry.shapes import Box, Tank
     from shoal.motions import PistonWavemaker
-    from shoal.output.vtu import read_vtu
 
     t_end, dp, d = 0.3, 0.025, 0.25
     piston = PistonWavemaker(name="piston", height=0.03, period=0.8, depth=d, ramp_periods=0.5,
@@ -890,18 +896,7 @@ def test_active_absorption_two_ranks_matches_one(mpiexec, tmp_path):
                         Solid(name="flume", shape=Tank(lo=(-0.2, 0, 0), hi=(1.2, 0, 0.4)))],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(1.2, 0, d)))])
     _run_one_and_two(mpiexec, case, tmp_path)
-    p0, d0 = read_vtu(tmp_path / "one" / "awas_0000.vtu")[:2]
-    n = case.n_particles
-    by_id = []
-    for path in (tmp_path / "one" / "awas_0001.vtu", tmp_path / "two" / "awas_0001.pvtu"):
-        pts, data = read_vtu(path)[:2]
-        ids = np.asarray(data["id"])
-        assert np.array_equal(np.sort(ids), np.arange(n))
-        out = np.empty_like(pts)
-        out[ids] = pts
-        by_id.append(out)
-    x0 = np.empty_like(p0)
-    x0[np.asarray(d0["id"])] = p0
+    x0, by_id = _by_id_one_and_two(tmp_path, "awas", case.n_particles)
     kinds = case.particles().kinds
     moving = kinds == 2
     target = piston.point_kinematics(x0[moving], t_end)[0]

@@ -266,6 +266,42 @@ class WavePaddleMixin:
                                (al if acceleration else 0.0) * a, self.rotation_pivot, True)
 
 
+class RegularPaddleMixin(WavePaddleMixin):
+    """The regular paddles' (`PistonWavemaker`, `FlapWavemaker`) envelope, second-order correction and
+    excursion X(t) = r(t) (S/2) sin(omega t) (+ r(t)^2 X2(t)), from their `height`, `period`, `depth`,
+    `ramp_periods`, `duration`, `order` and `stroke` (a flap's also `hinge`)."""
+
+    def envelope(self, t):
+        """r(t): the start-up ramp, and the stop after `duration`."""
+        return _envelope(t, self.ramp_periods * self.period, self.duration)[0]
+
+    def second_order(self):
+        """The second-order correction X2 of the face's excursion at the still-water level
+        (`shoal.waves.regular_second_order`, Schäffer 1996: the displacement at twice the frequency that
+        cancels the free second harmonic; a flap's for its `hinge`), or None for ``order = 1``; computed once
+        for the wave it belongs to."""
+        if self.order == 1:
+            return None
+        hinge = self.hinge if self.is_flap else 0.0
+        key = (self.height, self.period, self.depth, hinge)
+        if self._second is None or self._second[0] != key:
+            kind = "flap" if self.is_flap else "piston"
+            self._second = (key, regular_second_order(self.height, self.period, self.depth, kind, hinge))
+        return self._second[1]
+
+    def excursion(self, t):
+        """(X, X', X'') at time t [s]: the face's excursion along `direction` at the still-water level [m] (a
+        piston's displacement) and its derivatives (with ``order = 2``, the second-order correction
+        r(t)^2 X2(t) added)."""
+        w = 2.0 * math.pi / self.period
+        r, dr, ddr = _envelope(t, self.ramp_periods * self.period, self.duration)
+        ts = max(t, 0.0)
+        a = 0.5 * self.stroke
+        s, c = math.sin(w * ts), math.cos(w * ts)
+        x = (r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s))
+        return _with_second_order(x, r, dr, ddr, self.second_order(), t)
+
+
 def _hinge_axis(direction):
     """The unit axis z x e of a flap pushing along the horizontal `direction` e: a positive angle about it swings
     the flap's top along +e. Raises ValueError for a direction that is not horizontal."""
@@ -342,7 +378,7 @@ class ConstantVelocity(Motion):
         return math.hypot(*self.velocity) if self.start <= t_end else 0.0
 
 
-class PistonWavemaker(WavePaddleMixin, Motion):
+class PistonWavemaker(RegularPaddleMixin, Motion):
     """A piston paddle making regular waves of `height` H [m] and `period` T
     [s] in water of `depth` d [m].
 
@@ -407,32 +443,6 @@ class PistonWavemaker(WavePaddleMixin, Motion):
     @property
     def is_flap(self):
         return False
-
-    def envelope(self, t):
-        """r(t): the start-up ramp, and the stop after `duration`."""
-        return _envelope(t, self.ramp_periods * self.period, self.duration)[0]
-
-    def second_order(self):
-        """The second-order correction X2 of the paddle (`shoal.waves.regular_second_order`, Schäffer 1996:
-        the displacement at twice the frequency that cancels the free second harmonic), or None for
-        ``order = 1``; computed once for the wave it belongs to."""
-        if self.order == 1:
-            return None
-        key = (self.height, self.period, self.depth)
-        if self._second is None or self._second[0] != key:
-            self._second = (key, regular_second_order(self.height, self.period, self.depth, "piston"))
-        return self._second[1]
-
-    def excursion(self, t):
-        """(X, X', X'') at time t [s]: the paddle's displacement along `direction` [m] and its derivatives
-        (with ``order = 2``, the second-order correction r(t)^2 X2(t) added)."""
-        w = 2.0 * math.pi / self.period
-        r, dr, ddr = _envelope(t, self.ramp_periods * self.period, self.duration)
-        ts = max(t, 0.0)
-        a = 0.5 * self.stroke
-        s, c = math.sin(w * ts), math.cos(w * ts)
-        x = (r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s))
-        return _with_second_order(x, r, dr, ddr, self.second_order(), t)
 
     def wave_paddle(self):
         """The paddle as an active absorber sees it (`WavePaddle`)."""
@@ -721,7 +731,7 @@ class RotationMotion(RotatingMotion):
         return np.linspace(0.0, min(t_end, (self.ramp_periods + 2.0) * self.period), _SAMPLES)
 
 
-class FlapWavemaker(WavePaddleMixin, RotatingMotion):
+class FlapWavemaker(RegularPaddleMixin, RotatingMotion):
     """A flap paddle making regular waves of `height` H [m] and `period` T [s] in water of `depth` d [m],
     hinged `hinge` l [m] above the bed (0: on the bed; negative: below it, through a slot), rotating about the
     horizontal hinge line through `pivot` (default (0, 0, l): the bed at z = 0), normal to `direction` e.
@@ -809,31 +819,6 @@ class FlapWavemaker(WavePaddleMixin, RotatingMotion):
     @property
     def is_flap(self):
         return True
-
-    def envelope(self, t):
-        """r(t): the start-up ramp, and the stop after `duration`."""
-        return _envelope(t, self.ramp_periods * self.period, self.duration)[0]
-
-    def second_order(self):
-        """The second-order correction X2 of the face's excursion at the still-water level
-        (`shoal.waves.regular_second_order` for a flap hinged at `hinge`), or None for ``order = 1``."""
-        if self.order == 1:
-            return None
-        key = (self.height, self.period, self.depth, self.hinge)
-        if self._second is None or self._second[0] != key:
-            self._second = (key, regular_second_order(self.height, self.period, self.depth, "flap", self.hinge))
-        return self._second[1]
-
-    def excursion(self, t):
-        """(X, X', X'') at time t [s]: the face's excursion at the still-water level [m] and its derivatives
-        (with ``order = 2``, the second-order correction r(t)^2 X2(t) added)."""
-        w = 2.0 * math.pi / self.period
-        r, dr, ddr = _envelope(t, self.ramp_periods * self.period, self.duration)
-        ts = max(t, 0.0)
-        a = 0.5 * self.stroke
-        s, c = math.sin(w * ts), math.cos(w * ts)
-        x = (r * a * s, a * (dr * s + r * w * c), a * (ddr * s + 2.0 * dr * w * c - r * w * w * s))
-        return _with_second_order(x, r, dr, ddr, self.second_order(), t)
 
     def angle(self, t):
         """(theta, theta', theta'') at time t [s] from the face's excursion X(t) at the surface (class
