@@ -185,7 +185,12 @@ class AbsorbingPaddle:
         """eta_T [m] at the distance `x` [m] from the face's rest position at time t [s]: the target's
         progressive components and their near field, times the ramp (module docstring)."""
         arg = self._omega * t + self._phi
-        near = np.array([np.interp(x, self._xs, row) for row in self._near])
+        # linear interpolation in the uniform table of E(x), every component at once (clamped at its ends)
+        xs = self._xs
+        u = min(max((x - xs[0]) / (xs[1] - xs[0]), 0.0), len(xs) - 1.0)
+        k = min(int(u), len(xs) - 2)
+        f = u - k
+        near = self._near[:, k] * (1.0 - f) + self._near[:, k + 1] * f
         eta = np.dot(self._a, np.cos(arg - self._k * x)) - np.dot(near * self._b, np.sin(arg))
         return float(self.motion.envelope(t) * eta)
 
