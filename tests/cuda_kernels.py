@@ -139,7 +139,7 @@ def _fixed_kernels():
 
     out = {}
     rows = [k for pair in bc._row_kernels().values() for k in pair]
-    for k in (*grid._kernels(grid.DEFAULT_BLOCK).values(), *bc._reductions()[:2], *rows):
+    for k in (*grid._kernels(grid.DEFAULT_BLOCK).values(), *bc._reductions()[:2], *rows, *bc._body_kernels()):
         out[k.py_func.__qualname__] = k
     return out
 

@@ -169,7 +169,7 @@ MALFORMED = [
     ("unknown-key-options", edit(("cfl = 0.2", "cfl = 0.2\ncfll = 0.1")), "load",
      ["options", "'cfll'", "allowed keys:", "cfl, coef_h"]),
     ("unknown-key-solid", edit(('name = "tank"', 'name = "tank"\nboundry = "dynamic"')), "load",
-     ["unknown key 'boundry'", "solids[0]", "allowed keys:", "boundary, fit_surface, layers"]),
+     ["unknown key 'boundry'", "solids[0]", "allowed keys:", "boundary, fit_surface, floating, layers"]),
     ("fit-surface-on-a-tank", edit(('name = "tank"', 'name = "tank"\nfit_surface = true')), "load",
      ["solids[0]", "fit_surface = true is for a bed", "slope or bathymetry", "tank"]),
     ("fit-surface-not-a-bool", edit(('name = "tank"', 'name = "tank"\nfit_surface = "yes"')), "load",

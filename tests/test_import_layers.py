@@ -27,7 +27,8 @@ LAYERS = [
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
     ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.physics.shifting", "shoal.neighbours", "shoal.backends",
      "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.mass_properties", "shoal.rigid_body",
-     "shoal.body_loads", "shoal.floating", "shoal.active_absorption", "shoal.waves", "shoal.waves.second_order",
+     "shoal.body_loads", "shoal.floating", "shoal.body_coupling", "shoal.active_absorption", "shoal.waves",
+     "shoal.waves.second_order", "shoal.catenary", "shoal.mooring",
      "shoal.relaxation", "shoal.analysis", "shoal.output",
      "shoal.memory",
      "shoal.simulation.resources",

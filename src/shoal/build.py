@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .active_absorption import absorbing_paddles
+from .body_coupling import floating_motions
 from .errors import InputError
 from .model import Model
 from .motions import check_motion_speeds
@@ -30,7 +31,10 @@ def build_model(case, backend="cpu"):
                              "[0, -1, 0]) in 3D cases are supported")
         sym = (float(sp.point[1]), float(np.sign(n[1])))
     index = {m.name: k for k, m in enumerate(case.motions)}
-    body_motion = np.array([index.get(s.motion, -1) if s.motion else -1 for s in case.solids] + [-1], np.int32)
+    floating = floating_motions(case, case.fluid.gravity)
+    k_float = iter(range(len(case.motions), len(case.motions) + len(floating)))
+    body_motion = np.array([next(k_float) if s.floating is not None else index.get(s.motion, -1) if s.motion else -1
+                            for s in case.solids] + [-1], np.int32)
     motion_of = np.where(p.body >= 0, body_motion[p.body], -1)
     kinds = p.kinds.copy()
     rep = np.array([s.boundary == "repulsive" for s in case.solids] + [False])
@@ -43,6 +47,7 @@ def build_model(case, backend="cpu"):
         still = float(p.positions[p.kinds == FLUID, 2].max()) + 0.5 * case.dp  # the top layer's surface
     motions = absorbing_paddles(case.motions, p.positions, motion_of, still_water=still, dp=case.dp,
                                 h=Model.smoothing_length(case.options, case.dim, case.dp), dim=case.dim)
+    motions = list(motions) + floating  # after the case's motions: the rows body_motion gave them
     from .parallel import world
 
     cls = Model

@@ -30,6 +30,7 @@ import numpy as np
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, StrictBool, model_validator
 
 from .errors import InputError
+from .floating import FloatingBody
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
@@ -126,6 +127,10 @@ class Fluid(Spec):
     surface_level: Real | None = None
 
 
+FLOATING_SHAPES = ("box", "cylinder", "prism", "mesh")
+"""The shapes a floating body may have: closed ones, whose inside is its mass."""
+
+
 class Solid(Spec):
     """A solid body: a shape whose surface layers become boundary particles.
 
@@ -144,6 +149,9 @@ class Solid(Spec):
         2h reaches (every wall particle a fluid particle can see).
     motion : str, optional
         Name of a motion in the case's `motions` that moves this body.
+    floating : shoal.floating.FloatingBody, optional
+        The body floats: the water moves it (`shoal.body_coupling`), with this mass, these constraints
+        and loads. A closed shape (box, cylinder, prism, mesh) with dynamic particles; not with `motion`.
     fit_surface : bool
         For a bed (`Slope`, `Bathymetry`) with dynamic particles: put its wall
         particles on layers parallel to its surface, at normal depths
@@ -158,7 +166,22 @@ class Solid(Spec):
     boundary: Literal["dynamic", "repulsive"] = "dynamic"
     layers: Annotated[int, Field(ge=1, strict=True)] | None = None
     motion: str | None = None
+    floating: FloatingBody | None = None
     fit_surface: StrictBool = False
+
+    @model_validator(mode="after")
+    def _a_body_that_floats(self):
+        if self.floating is None:
+            return self
+        if self.motion is not None:
+            raise ValueError(f"motion = {self.motion!r} and floating both given: a floating body is moved by the "
+                             "water; give one of the two")
+        if self.shape.type not in FLOATING_SHAPES:
+            raise ValueError(f"a {self.shape.type} cannot float: a floating body is a closed shape "
+                             f"({', '.join(FLOATING_SHAPES)})")
+        if self.boundary != "dynamic":
+            raise ValueError("a floating body has dynamic boundary particles (boundary = \"dynamic\")")
+        return self
 
     @model_validator(mode="after")
     def _fit_surface_on_a_bed(self):
@@ -347,6 +370,11 @@ class Case(BaseModel):
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ValueError(f"motion names must be unique; repeated: {', '.join(sorted(dup))}")
+        floating = [s.name or f"solid{i}" for i, s in enumerate(self.solids) if s.floating is not None]
+        twice = sorted({n for n in floating if floating.count(n) > 1})
+        if twice:
+            raise ValueError(f"floating bodies named {', '.join(twice)} more than once: each writes its own "
+                             "file; give each a name of its own")
         for i, s in enumerate(self.solids):
             if s.motion is not None and s.motion not in names:
                 allowed = ", ".join(names) if names else "none defined"
@@ -586,9 +614,7 @@ class Case(BaseModel):
         from .memory import check_generation_size
 
         check_generation_size(self, lo, hi)  # a tiny dp on a big case: refused now, not after hours
-        solids = [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None, s.name or f"solid{i}",
-                             group=s.motion, fit_surface=s.fit_surface)
-                  for i, s in enumerate(self.solids)]
+        solids = self.solid_inputs()
         fluids = [FluidInput(f.shape, f.velocity) for f in self.fluids]
         support = 2.0 * self.smoothing_length / self.dp
         # without an explicit domain, the shapes end one spacing inside the generation box (the empty ring
@@ -624,6 +650,15 @@ class Case(BaseModel):
             p.positions[:, 1] = 0.0
         self._particles, self._key = p, key
         return p
+
+    def solid_inputs(self):
+        """The solids as the particle generator takes them (`shoal.geometry.generate.SolidInput`): a solid
+        with a motion or that floats has moving particles, grouped by its motion (a floating body: its own
+        group)."""
+        return [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None or s.floating is not None,
+                           s.name or f"solid{i}", group=s.motion if s.floating is None else f"floating {i}",
+                           fit_surface=s.fit_surface)
+                for i, s in enumerate(self.solids)]
 
     def resolved_domain(self):
         """(lo, hi) of the computational box [m] (3 floats each)."""

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from .errors import InputError
 from .motions import check_motion_speeds
 from .memory import case_cell_count, physical_memory, probe_bytes, probe_record_values, probe_samples, solver_bytes
 from .physics.constants import speed_of_sound
@@ -27,12 +28,41 @@ connectivity, offsets and cell types; measured on written files: 80-84)."""
 def check_relaxation_zones(case, lo, hi):
     """Refuse a relaxation zone (`shoal.relaxation.RelaxationZone`) that lies outside the domain's x range
     [`lo`, `hi`] (`InputError`): it would relax nothing."""
-    from .errors import InputError
-
     for i, zone in enumerate(case.relaxation):
         if zone.hi <= lo[0] or zone.lo >= hi[0]:
             raise InputError(f"relaxation[{i}]: the zone x = {zone.start:g} .. {zone.end:g} m lies outside the "
                              f"domain's x = [{lo[0]:.4g}, {hi[0]:.4g}] m and would relax nothing; put it inside")
+
+
+def floating_lines(case):
+    """Lines giving each floating body's mass, volume, centre of gravity, inertia and constraints (2D: per
+    metre of width), from its lattice nodes and the values the case gives (`shoal.floating.FloatingBody`)."""
+    from .geometry.generate import solid_nodes
+
+    lines = []
+    inputs = case.solid_inputs()
+    unit = "/m" if case.dim == 2 else ""
+    for k, s in enumerate(case.solids):
+        f = s.floating
+        if f is None:
+            continue
+        nodes = solid_nodes(case.dim, case.dp, inputs, k, case.lattice_origin)
+        if len(nodes) == 0:
+            raise InputError(f"solids[{k}] ({s.name or s.shape.type}) floats but holds no lattice node at dp = "
+                             f"{case.dp:g} m: make it larger or dp smaller")
+        mp = f.mass_properties(nodes, case.dp, case.dim)
+        volume = len(nodes) * case.dp ** case.dim
+        inertia = (f"inertia about y {mp.inertia[1, 1]:.4g}" if case.dim == 2 else "principal inertia " +
+                   ", ".join(f"{v:.4g}" for v in np.linalg.eigvalsh(0.5 * (mp.inertia + mp.inertia.T))))
+        c = ", ".join(f"{v:.4g}" for v in mp.centre)
+        held = f.fixed or []
+        how = (f"hinged about {list(f.hinge.axis)} through {list(f.hinge.point)}" if f.hinge is not None else
+               f"fixed {', '.join(held)}" if held else "free")
+        size = f"area {volume:.4g} m^2" if case.dim == 2 else f"volume {volume:.4g} m^3"
+        lines.append(f"  floating {s.name or f'solids[{k}]'}: mass {mp.mass:.4g} kg{unit}, {size} "
+                     f"(density {mp.mass / volume:.4g} kg/m^3), centre of gravity "
+                     f"({c}) m, {inertia} kg m^2{unit}; {how}")
+    return lines
 
 
 def check_case(case):
@@ -79,7 +109,7 @@ def check_case(case):
     for k, s in enumerate(case.solids):
         nk = int(np.count_nonzero(p.body == k))
         desc = f"{s.boundary}" + (f", {s.layers} layers" if s.layers else "") + \
-            (f", moved by {s.motion!r}" if s.motion else "")
+            (f", moved by {s.motion!r}" if s.motion else "") + (", floating" if s.floating else "")
         lines.append(f"    solids[{k}] {s.name or s.shape.type}: {nk:,} particles ({s.shape.type}, {desc})")
     lines.append("  domain: " + " x ".join(f"[{lo[a]:.4g}, {hi[a]:.4g}]" for a in axes) + " m"
                  + ("  (x, z)" if dim == 2 else "  (x, y, z)"))
@@ -109,6 +139,7 @@ def check_case(case):
                  + f"), {', '.join(when)}; the newest {cfg.keep} kept: up to {cfg.keep * ck_end / 2**20:.3g} MiB")
     if case.motions:
         lines.append("  motions: " + ", ".join(f"{m.name} ({m.type})" for m in case.motions))
+    lines += floating_lines(case)
     for i, zone in enumerate(case.relaxation):
         lines.append(f"  relaxation[{i}]: {zone.describe()}")
     from .advice import case_warnings

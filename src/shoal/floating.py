@@ -2,7 +2,7 @@
 
 `FloatingBody` validates what a case gives (density or mass, centre of gravity, inertia, initial
 velocities, fixed degrees of freedom, a hinge, spring-dampers) and builds the `shoal.rigid_body.RigidBody`
-of a body from its particles. In TOML (issue 32; not wired into `shoal.Case` yet)::
+of a body from its particles. In a case file, a solid's ``floating`` table (`shoal.case.Solid`)::
 
     floating = { density = 500, fixed = ["y", "rx", "rz"] }
     floating = { mass = 12.5, centre_of_gravity = [1.0, 0.0, 0.2], inertia = [0.4, 0.5, 0.3] }
@@ -75,6 +75,9 @@ class FloatingBody(Spec):
         Rotation about a fixed axis through a fixed point only. Not with `fixed` or `velocity`.
     springs : list of shoal.body_loads.SpringDamper
         Linear spring-dampers from body points to fixed anchors.
+    interval : float, optional
+        Seconds between the rows of the body's CSV (``body_<name>.csv``, `shoal.probes.body_recorder`);
+        default: the case's output interval.
     """
 
     density: PositiveReal | None = None
@@ -86,6 +89,7 @@ class FloatingBody(Spec):
     fixed: list[Literal["x", "y", "z", "rx", "ry", "rz"]] = Field(default_factory=list)
     hinge: Hinge | None = None
     springs: list[SpringDamper] = Field(default_factory=list)
+    interval: PositiveReal | None = None
 
     @field_validator("inertia")
     @classmethod

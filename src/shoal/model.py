@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from .backends import get_backend
+from .body_coupling import BodyCoupling
 from .errors import InputError, InstabilityError
 from .options import SPHOptions
 from .particle_store import ParticleStore
@@ -260,6 +261,7 @@ class Model:
         (`shoal.physics.body_motion.motion_layout`) and, where a motion rotates, the t = 0 copies of the
         id-indexed wall vectors (`_init_wall_normals`) that turn with it."""
         self.motions = list(motions or [])
+        self.floating = BodyCoupling(self.motions, self.dim)  # the floating bodies among them (none: a no-op)
         self._rotating = False
         self._wall_vectors = []  # (initial, current) id-indexed tables that turn with a rotating wall
         for m in self.motions:
@@ -638,6 +640,8 @@ class Model:
         self.ghosts_spent()
         self._rates()
         self.clear_ghost_rates()
+        if self.floating:
+            self.floating.measure(self)
 
     def _rates(self):
         b, n, P = self.backend, self.n, self.P
@@ -846,6 +850,15 @@ class Model:
         ids : ndarray, shape (N,)
             Their ids.
         """
+        n = self.n
+        self._wall_force_pass()
+        f = self.host(self._force, 0, n).astype(np.float64)
+        out = np.zeros((n, 3))
+        out[:, [0, 1, 2] if self.dim == 3 else [0, 2]] = f
+        return out[self.owned_rows()], self.host(self.idp)[self.owned_rows()]
+
+    def _wall_force_pass(self):
+        """The force of the fluid on each boundary particle into ``self._force`` (`shoal.physics.forces`)."""
         b, n, P = self.backend, self.n, self.P
         if getattr(self, "_force", None) is None or self._force.shape[0] < n:
             self._force = b.zeros((max(n, 1), self.dim), self.dtype)
@@ -854,10 +867,45 @@ class Model:
         b.timed(b.wall_force, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                                   self.grid.cell_start, self.grid.gdims_arr, P, self.vwall, self.idp, ghosts, gid0,
                                   self._force))
-        f = self.host(self._force, 0, n).astype(np.float64)
-        out = np.zeros((n, 3))
-        out[:, [0, 1, 2] if self.dim == 3 else [0, 2]] = f
-        return out[self.owned_rows()], self.host(self.idp)[self.owned_rows()]
+
+    def ghost_flags(self):
+        """(N,) int8 array flagging the rows that are copies of another process's particles, or None (one
+        process: there are none)."""
+        return None
+
+    def floating_loads(self, row, centres):
+        """The fluid's force and torque on each floating body now (`shoal.body_coupling`).
+
+        Parameters
+        ----------
+        row : (M,) int32 array
+            For each motion, its body's row in `centres` (-1: not a floating body).
+        centres : (B, 3) float64 array
+            Each body's centre of gravity [m], about which its torque is taken.
+
+        Returns
+        -------
+        (B, 6) float64 array
+            F [N] (columns 0-2) and T = sum (x_b - c) x F_b [N m] (3-5), world frame (2D: per metre of
+            width, T about y), summed over the body's particles of every process.
+        """
+        b, n = self.backend, self.n
+        self._wall_force_pass()
+        if getattr(self, "_body_buffers", None) is None or self._body_buffers[0].shape != centres.shape:
+            self._body_buffers = (b.asarray(centres.copy()), b.zeros((centres.shape[0], 6), np.float64),
+                                  b.asarray(np.asarray(row, np.int32).copy()), np.zeros((centres.shape[0], 6)))
+        dev_c, dev_out, dev_row, host_out = self._body_buffers
+        b.copy_into(dev_c, centres, centres.shape[0])
+        ghost = self.ghost_flags()
+        use_ghost = ghost is not None
+        if ghost is None:
+            if getattr(self, "_body_no_ghost", None) is None:
+                self._body_no_ghost = b.zeros(1, np.int8)
+            ghost = self._body_no_ghost
+        b.body_sums(n, self.pos, self._force, self.kind, self.idp, self.motion_of, ghost, use_ghost, dev_row, dev_c,
+                    dev_out)
+        b.copy_to_host(host_out, dev_out, host_out.shape[0])
+        return self.reduce_array(host_out, "sum")
 
     def body_force(self, body):
         """Total force [N; 2D: N/m] of the fluid on the solid numbered `body` (the case's `solids`

@@ -189,6 +189,7 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     from .active_absorption import AbsorbingPaddle
     from .casefile import dumps_case, write_case
     from .probes import make_recorder
+    from .probes.body_recorder import BodyRecorder
     from .simulation import IterationInterval
     from .simulation.checkpoint import CheckpointWriter, set_aside_csvs
     from .simulation.signals import StopOnSignals
@@ -215,6 +216,11 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     recorders = [make_recorder(p, probe_dir, case.dp, model) for p in case.probes]
     for rec in recorders:
         sim.add_callback(rec, TimeInterval(rec.spec.interval), name=f"probe {rec.spec.name}")
+    floating = [s.floating for s in case.solids if s.floating is not None]
+    for j, spec in enumerate(floating):  # each floating body's CSV (shoal.probes.body_recorder)
+        rec = BodyRecorder(model, j, probe_dir)
+        sim.add_callback(rec, TimeInterval(spec.interval or case.output.interval), name=f"body {rec.name}")
+        recorders.append(rec)
     writer = procs.snapshot_writer(out_dir, case.name, resume=ck is not None)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = ProgressBar(case.end_time, progress and procs.rank == 0)

@@ -18,7 +18,7 @@ import numpy as np
 from ..faults import reached
 from ..neighbours.grid import CellGrid
 from ..physics.identity import shared_loop
-from ..physics.spec import FLUID
+from ..physics.spec import FLUID, MOVING
 from .loops import attach_loops, row_columns
 
 # Fast-math flags that keep NaN/inf semantics (NaN checks must still work).
@@ -110,6 +110,33 @@ def find_bad(n, pos, vel, rho, kind, rho_lo, rho_hi):
     return -1, 0
 
 
+@numba.njit(cache=True)
+def body_sums(n, pos, force, kind, idp, motion_of, ghost, use_ghost, row, centres, out):
+    """out[j] = (F, T) of floating body j: F = sum F_b, T = sum (x_b - c_j) x F_b over its moving boundary
+    particles b (`row[motion_of[id]]` = j), ghosts left out when `use_ghost` (`Model.floating_loads`).
+    A serial sum in particle order: the same order gives the same bits (bitwise resume)."""
+    dim = pos.shape[1]
+    out[:, :] = 0.0
+    for i in range(n):
+        if kind[i] != MOVING or (use_ghost and ghost[i] != 0):
+            continue
+        j = row[motion_of[idp[i]]]
+        if j < 0:
+            continue
+        if dim == 3:
+            fx, fy, fz = float(force[i, 0]), float(force[i, 1]), float(force[i, 2])
+            rx, ry, rz = pos[i, 0] - centres[j, 0], pos[i, 1] - centres[j, 1], pos[i, 2] - centres[j, 2]
+            out[j, 1] += fy
+            out[j, 3] += ry * fz - rz * fy
+            out[j, 5] += rx * fy - ry * fx
+        else:  # (x, z) stored; the torque is about y
+            fx, fz = float(force[i, 0]), float(force[i, 1])
+            rx, rz = pos[i, 0] - centres[j, 0], pos[i, 1] - centres[j, 2]
+        out[j, 0] += fx
+        out[j, 2] += fz
+        out[j, 4] += rz * fx - rx * fz
+
+
 class CPUBackend:
     """Compiled CPU kernels for one scheme specialisation.
 
@@ -148,6 +175,7 @@ class CPUBackend:
 
     dt_terms = staticmethod(dt_terms)
     find_bad = staticmethod(find_bad)
+    body_sums = staticmethod(body_sums)
 
     # -- arrays: the CPU works on NumPy arrays in place
     @staticmethod

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..physics.identity import shared_loop
-from ..physics.spec import FLUID
+from ..physics.spec import FLUID, MOVING
 from .loops import attach_loops, row_columns
 
 from .simulator import barrier_free, prepare
@@ -143,6 +143,42 @@ def _reductions():
 
 
 @functools.lru_cache(maxsize=None)
+def _body_kernels():
+    @barrier_free
+    @cuda.jit
+    def zero_rows(out):
+        i = cuda.grid(1)
+        if i < out.shape[0]:
+            for c in range(out.shape[1]):
+                out[i, c] = 0.0
+
+    @barrier_free
+    @cuda.jit
+    def body_sums(n, pos, force, kind, idp, motion_of, ghost, use_ghost, row, centres, out):
+        # the CPU's `body_sums` with atomic adds (float64): the same sums, in an order that varies
+        i = cuda.grid(1)
+        if i < n and kind[i] == MOVING and not (use_ghost and ghost[i] != 0):
+            j = row[motion_of[idp[i]]]
+            if j >= 0:
+                dim = pos.shape[1]
+                fx = float(force[i, 0])
+                fz = float(force[i, dim - 1])
+                rx = pos[i, 0] - centres[j, 0]
+                rz = pos[i, dim - 1] - centres[j, 2]
+                if dim == 3:
+                    fy = float(force[i, 1])
+                    ry = pos[i, 1] - centres[j, 1]
+                    cuda.atomic.add(out, (j, 1), fy)
+                    cuda.atomic.add(out, (j, 3), ry * fz - rz * fy)
+                    cuda.atomic.add(out, (j, 5), rx * fy - ry * fx)
+                cuda.atomic.add(out, (j, 0), fx)
+                cuda.atomic.add(out, (j, 2), fz)
+                cuda.atomic.add(out, (j, 4), rz * fx - rx * fz)
+
+    return zero_rows, body_sums
+
+
+@functools.lru_cache(maxsize=None)
 def _row_kernels():
     """Kernels that move rows of particle arrays to and from a float64 buffer (`pack_rows`): one
     thread per row (halos are small; the CUDA simulator runs a Python thread per GPU thread)."""
@@ -250,6 +286,14 @@ class CUDABackend:
             self._a2 = self._cuda.device_array(len(kind), dtype=ace.dtype)
         self._accel2[(n + THREADS - 1) // THREADS, THREADS](n, ace, kind, self._a2)
         return float(self._max(self._a2[:n])), float(self._max(mu_max[:n]))
+
+    def body_sums(self, n, pos, force, kind, idp, motion_of, ghost, use_ghost, row, centres, out):
+        """(F, T) of each floating body into the device array `out` (`shoal.backends.cpu.body_sums`)."""
+        zero_rows, sums = _body_kernels()
+        zero_rows[1, max(32, out.shape[0])](out)
+        if n > 0:
+            sums[(n + THREADS - 1) // THREADS, THREADS](n, pos, force, kind, idp, motion_of, ghost, bool(use_ghost),
+                                                        row, centres, out)
 
     def find_bad(self, n, pos, vel, rho, kind, rho_lo, rho_hi):
         """(index, code) of the first unstable particle, or (-1, 0)."""

@@ -233,6 +233,44 @@ def generate(dim, dp, box, solids, fluids, support_ratio, origin=(0.0, 0.0, 0.0)
     return Particles(pos, kinds, vel, body, region, spacing, [s.name for s in solids], ghosts)
 
 
+def solid_nodes(dim, dp, solids, k, origin=(0.0, 0.0, 0.0)):
+    """The lattice nodes [m] that solid `k` of `solids` owns, all of them, not only its wall layers: the
+    region a floating body fills (its mass properties, `shoal.mass_properties`).
+
+    A node belongs to the first solid whose shape holds it, as `generate` classifies nodes (nudged by
+    1e-7 dp, faces half-open), so a body's nodes are those its wall particles are taken from.
+
+    Parameters
+    ----------
+    dim : {2, 3}
+    dp : float
+        Lattice spacing [m].
+    solids : list of SolidInput
+    k : int
+        Which solid.
+    origin : 3 floats
+        Lattice origin [m].
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+    """
+    origin = np.asarray(origin, float)
+    axes = [0, 2] if dim == 2 else [0, 1, 2]
+    lo, hi = solids[k].shape.bounds(dim)
+    ranges = [_axis_range(lo[a], hi[a], origin[a], dp) for a in axes]
+    coords = [origin[a] + (np.arange(i0, i1) + 0.5) * dp for a, (i0, i1) in zip(axes, ranges)]
+    grids = np.meshgrid(*coords, indexing="ij")
+    pts = np.zeros((grids[0].size, 3))
+    for a, g in zip(axes, grids):
+        pts[:, a] = g.ravel()
+    probe = pts + _NUDGE * dp
+    mine = solids[k].shape.contains(probe, dim, 0.0)
+    for s in solids[:k]:
+        mine[mine] &= ~s.shape.contains(probe[mine], dim, 0.0)
+    return pts[mine]
+
+
 def _fit_surface(solid, k, pos, kinds, body, spacing, ghosts, dp, origin, dim):
     """Move solid `k`'s wall particles onto layers parallel to its surface and fit the fluid's rows
     above it (`pos` and `ghosts` change in place; `shoal.geometry.surface_fit`)."""

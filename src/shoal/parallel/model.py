@@ -361,6 +361,10 @@ class DistributedModel(Model):
         """Zero the ghosts' rates: each particle's rates are its owner's."""
         self.halo.clear_rates()
 
+    def ghost_flags(self):
+        """``ghost``: 1 on the rows that copy a neighbour rank's particles (the halo)."""
+        return self.ghost
+
     def reduce(self, value, op="min"):
         """`value` over every rank (`TimedComm.allreduce`; collective)."""
         return self.link.allreduce(value, op)

@@ -264,6 +264,7 @@ def capture(sim, case_toml, particles=None, rows=None):
         "integrator": {"type": type(sim.integrator).__name__, "scalars": sim.integrator.checkpoint_state(),
                        "n_extra": len(m.extra_arrays)},
         "callbacks": cbs,
+        "floating": m.floating.checkpoint_state(),
         "written": _time.strftime("%Y-%m-%dT%H:%M:%S"),
     }
     ds["meta"] = utf8_array(json.dumps(meta))
@@ -422,6 +423,10 @@ def restore_scalars(sim, ck):
         raise CheckpointError(f"{ck.path.name} was written with the {it['type']} integrator; this run uses "
                               f"{type(sim.integrator).__name__}")
     sim.integrator.restore_state(it["scalars"])
+    try:
+        m.floating.restore_state(meta.get("floating", []))
+    except ValueError as err:
+        raise CheckpointError(f"{ck.path.name}: {err}") from None
     m.n = int(mm["n"])
     m.n_escaped = int(mm["n_escaped"])
     m.time = _unf(mm["time"])

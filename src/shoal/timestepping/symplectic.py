@@ -4,7 +4,8 @@ Per step: save state n; rates at n; choose dt; predictor over dt/2
 (r, v, rho at n+1/2); rates at n+1/2; corrector
 v^{n+1} = v^n + dt a^{n+1/2}, r^{n+1} = r^n + dt (v^{n+1} + v^n)/2,
 rho^{n+1} = rho^n (2 - e)/(2 + e), e = -(D^{n+1/2}/rho^{n+1/2}) dt.
-Two rate evaluations per step; second-order and time-reversible.
+Two rate evaluations per step; second-order and time-reversible. Floating
+bodies take the same two stages (`shoal.body_coupling`).
 """
 
 
@@ -44,9 +45,11 @@ class Symplectic:
         F = m.dtype.type
         b.timed(b.half_step, m.n, (m.pos, m.vel, m.rho, *self._saved(), m.ace, m.drho, m.xsph, m.kind,
                                    F(dt), m.P))
+        m.floating.predict(m.time, dt)  # floating bodies to n+1/2 under the loads of the rates at n
         m.move_bodies(m.time + 0.5 * dt)
         m.compute_rates()
         self.correct(F(dt))
+        m.floating.correct(m.time, dt)  # and to n+1 under those at n+1/2
         m.move_bodies(m.time + dt)
         return dt
 

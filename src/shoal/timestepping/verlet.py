@@ -56,5 +56,6 @@ class Verlet:
         b = m.backend
         b.timed(b.verlet, m.n, (m.pos, m.vel, m.rho, self.vel_m1, self.rho_m1, m.ace, m.drho, m.xsph,
                                 m.kind, m.dtype.type(dt), euler, m.P))
+        m.floating.advance(m.time, dt)  # floating bodies under the loads of the rates at n
         m.move_bodies(m.time + dt)
         return dt
