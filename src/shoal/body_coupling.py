@@ -31,6 +31,8 @@ checkpoints (`checkpoint_state`), so a resumed run continues bitwise.
 
 from __future__ import annotations
 
+import base64
+
 import numpy as np
 
 from .body_loads import Gravity, total_loads
@@ -78,6 +80,11 @@ class FloatingMotion:
         the integrator places the particles at, which the coupling has already stepped the state to."""
         return self.body.kinematics(self.state)
 
+    def add_load(self, load):
+        """Add ``load(body, state, t) -> (F, T)`` to the loads besides the fluid's."""
+        self.loads.append(load)
+        self._other = total_loads(self.body, self.loads)
+
     def other_loads(self, state, t):
         """(F, T) of the loads besides the fluid's at `state` and time `t`."""
         return self._other(state, t)
@@ -98,6 +105,10 @@ class BodyCoupling:
 
     def __init__(self, motions=(), dim=3):
         self.dim = dim
+        self.moorings = []
+        """`shoal.mooring.Mooring` objects holding the bodies (their fairleads' body indices are positions in
+        `bodies`); each is stepped once a step, from the bodies' states at its start, and its forces, held
+        over the step, are among the bodies' other loads (`floating_bodies`)."""
         self.index = [k for k, m in enumerate(motions) if getattr(m, "floating", False)]
         self.bodies = [motions[k] for k in self.index]
         self.row = np.full(max(len(motions), 1), -1, np.int32)
@@ -126,8 +137,17 @@ class BodyCoupling:
         f, tq = self.bodies[j].other_loads(state, t)
         return f + self.fluid[j, :3], tq + self.fluid[j, 3:]
 
+    def _step_moorings(self, t, dt):
+        """MoorDyn from t to t + dt, the fairleads moving from the bodies' states at t (an explicit coupling,
+        as MoorDyn's own drivers: the lines' forces at t + dt, held over the step)."""
+        if self.moorings:
+            bodies, states = [b.body for b in self.bodies], [b.state for b in self.bodies]
+            for m in self.moorings:
+                m.loads(bodies, states, t, dt)
+
     def predict(self, t, dt):
         """The half step: each body from its state at `t` to t + dt/2 under the loads measured at `t`."""
+        self._step_moorings(t, dt)
         for j, b in enumerate(self.bodies):
             s = b.state
             self._start[j] = s
@@ -143,6 +163,7 @@ class BodyCoupling:
 
     def advance(self, t, dt):
         """Verlet's step: from the state at `t` under the loads measured at `t`."""
+        self._step_moorings(t, dt)
         for j, b in enumerate(self.bodies):
             s = b.state
             f, tq = self._total(j, s, t)
@@ -150,13 +171,23 @@ class BodyCoupling:
 
     # ------------------------------------------------------------------ checkpoints
     def checkpoint_state(self):
-        """Each body's state as plain lists of floats (exact in JSON), by name."""
-        return [{"name": b.name, **{k: np.asarray(v, float).ravel().tolist() for k, v in zip(_STATE_FIELDS, b.state)}}
-                for b in self.bodies]
+        """{"bodies": each body's state as plain lists of floats (exact in JSON), by name; "moorings": each
+        mooring's state (`shoal.mooring.Mooring.checkpoint_state`), base64 text}."""
+        return {"bodies": [{"name": b.name, **{k: np.asarray(v, float).ravel().tolist()
+                                               for k, v in zip(_STATE_FIELDS, b.state)}} for b in self.bodies],
+                "moorings": [base64.b64encode(m.checkpoint_state()).decode("ascii") for m in self.moorings]}
 
     def restore_state(self, saved):
-        """Put back the states of `checkpoint_state`; raises ValueError when the bodies differ."""
-        saved = list(saved or [])
+        """Put back the states of `checkpoint_state`; raises ValueError when the bodies or moorings differ."""
+        saved = saved or {}
+        if isinstance(saved, list):  # written before moorings: the bodies alone
+            saved = {"bodies": saved}
+        moorings = saved.get("moorings", [])
+        if len(moorings) != len(self.moorings):
+            raise ValueError(f"the checkpoint has {len(moorings)} moorings, this case {len(self.moorings)}")
+        for m, text in zip(self.moorings, moorings):
+            m.restore_state(base64.b64decode(text))
+        saved = list(saved.get("bodies", []))
         names = [b.name for b in self.bodies]
         if [s["name"] for s in saved] != names:
             raise ValueError(f"the checkpoint's floating bodies are {[s['name'] for s in saved]}, this case's "
@@ -168,10 +199,20 @@ class BodyCoupling:
         self._start = [b.state for b in self.bodies]
 
 
-def floating_motions(case, gravity):
-    """The `FloatingMotion` of each floating solid of `case`, in the order of its solids, with gravity
-    `gravity` [m/s^2] as a load (and the body's springs)."""
+def _per_width(load, width):
+    """`load` divided by `width` [m]: MoorDyn's whole-width forces on a 2D body, which is per metre."""
+    def scaled(body, state, t):
+        f, tq = load(body, state, t)
+        return f / width, tq / width
+    return scaled
+
+
+def floating_bodies(case, gravity):
+    """The floating solids of `case` and their moorings: ([`FloatingMotion` of each floating solid, in the
+    order of its solids, with gravity `gravity` [m/s^2], its springs and its mooring lines as loads],
+    [`shoal.mooring.Mooring` of each of ``case.moorings``, initialised at the bodies' t = 0 states])."""
     from .geometry.generate import solid_nodes
+    from .mooring import Mooring
 
     out = []
     inputs = case.solid_inputs()
@@ -182,4 +223,14 @@ def floating_motions(case, gravity):
         body, state = s.floating.rigid_body(nodes, case.dp, case.dim)
         loads = [Gravity(gravity), *s.floating.springs]
         out.append(FloatingMotion(s.name or f"solid{k}", body, state, loads))
-    return out
+    names = [b.name for b in out]
+    moorings = []
+    for spec in case.moorings:
+        m = Mooring(spec.file, [(names.index(f.body), f.point) for f in spec.fairleads], origin=spec.origin)
+        m.name = spec.name
+        m.initialise([b.body for b in out], [b.state for b in out])
+        for j in sorted({names.index(f.body) for f in spec.fairleads}):
+            load = m.body_load(j)
+            out[j].add_load(load if spec.width is None else _per_width(load, spec.width))
+        moorings.append(m)
+    return out, moorings

@@ -16,6 +16,7 @@ import numpy as np
 from pydantic import Field
 
 from .geometry.shapes import Spec, Vec3
+from .rigid_body import cross3
 
 NonNegativeReal = Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)]
 
@@ -24,7 +25,7 @@ def body_point(body, state, x0):
     """(x [m], u [m/s]) now of the body point that was at `x0` [m] at t = 0: x = c + R (x0 - c0),
     u = v + omega x (x - c)."""
     r = state.rotation @ (np.asarray(x0, float) - body.centre0)
-    return state.position + r, state.velocity + np.cross(state.angular_velocity, r)
+    return state.position + r, state.velocity + cross3(state.angular_velocity, r)
 
 
 class Gravity:
@@ -77,7 +78,7 @@ class SpringDamper(Spec):
             else:
                 n = d / length
                 f = -(k * (length - self.rest_length) + c * float(u @ n)) * n
-        return f, np.cross(x - state.position, f)
+        return f, cross3(x - state.position, f)
 
 
 class UserForce:
@@ -102,7 +103,7 @@ class UserForce:
         tq = np.zeros(3) if self.torque is None else np.asarray(self.torque(t), float).copy()
         if self.attachment is not None:
             x, _ = body_point(body, state, self.attachment)
-            tq = tq + np.cross(x - state.position, f)
+            tq = tq + cross3(x - state.position, f)
         return f, tq
 
 

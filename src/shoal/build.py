@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .active_absorption import absorbing_paddles
-from .body_coupling import floating_motions
+from .body_coupling import floating_bodies
 from .errors import InputError
 from .model import Model
 from .motions import check_motion_speeds
@@ -31,7 +31,7 @@ def build_model(case, backend="cpu"):
                              "[0, -1, 0]) in 3D cases are supported")
         sym = (float(sp.point[1]), float(np.sign(n[1])))
     index = {m.name: k for k, m in enumerate(case.motions)}
-    floating = floating_motions(case, case.fluid.gravity)
+    floating, moorings = floating_bodies(case, case.fluid.gravity)
     k_float = iter(range(len(case.motions), len(case.motions) + len(floating)))
     body_motion = np.array([next(k_float) if s.floating is not None else index.get(s.motion, -1) if s.motion else -1
                             for s in case.solids] + [-1], np.int32)
@@ -59,6 +59,7 @@ def build_model(case, backend="cpu"):
                 wall_normals=p.normals,
                 periodic=tuple(case.domain.periodic) if case.domain else (),
                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
+    model.floating.moorings = moorings
     model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges
     model.body_names = [s.name for s in case.solids]
     return model

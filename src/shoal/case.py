@@ -30,7 +30,7 @@ import numpy as np
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, PrivateAttr, StrictBool, model_validator
 
 from .errors import InputError
-from .floating import FloatingBody
+from .floating import FloatingBody, MooringLines
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
@@ -316,6 +316,8 @@ class Case(BaseModel):
         Relaxation zones (`shoal.relaxation`): the velocity relaxed toward still water (an absorber), a
         linear wave or the sea of an irregular or focused motion (a generator).
     planes : list of WallPlane
+    moorings : list of MooringLines
+        Mooring lines (MoorDyn v2) holding the floating solids (`shoal.floating.MooringLines`).
     probes : list of PointProbes / WaveGauge (`shoal.probes`)
     domain : Domain, optional
         Default: the particles' bounding box grown by the kernel support 2h
@@ -353,6 +355,7 @@ class Case(BaseModel):
     damping: list[DampingZone] = []
     relaxation: list[RelaxationZone] = []
     planes: list[WallPlane] = []
+    moorings: list[MooringLines] = []
     probes: list[AnyProbe] = []
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
@@ -375,6 +378,20 @@ class Case(BaseModel):
         if twice:
             raise ValueError(f"floating bodies named {', '.join(twice)} more than once: each writes its own "
                              "file; give each a name of its own")
+        for i, m in enumerate(self.moorings):
+            for k, f in enumerate(m.fairleads):
+                if f.body not in floating:
+                    raise ValueError(f"moorings[{i}].fairleads[{k}].body = {f.body!r} is no floating solid "
+                                     f"(floating: {', '.join(map(repr, floating)) or 'none'})")
+            if self.dim == 2 and m.width is None:
+                raise ValueError(f"moorings[{i}]: a 2D case's bodies are per metre of width and MoorDyn's lines "
+                                 "whole: give width, the flume's width [m] the lines hold")
+            if self.dim == 3 and m.width is not None:
+                raise ValueError(f"moorings[{i}].width = {m.width:g}: only for 2D cases (per metre of width)")
+        mnames = [m.name for m in self.moorings]
+        if len(set(mnames)) != len(mnames):
+            raise ValueError(f"moorings named {sorted({n for n in mnames if mnames.count(n) > 1})} more than once: "
+                             "each writes its own files; give each a name of its own")
         for i, s in enumerate(self.solids):
             if s.motion is not None and s.motion not in names:
                 allowed = ", ".join(names) if names else "none defined"

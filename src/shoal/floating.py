@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import BeforeValidator, Field, field_validator, model_validator
 
 from .body_loads import SpringDamper
-from .geometry.shapes import PositiveReal, Spec, Vec3
+from .geometry.shapes import CasePath, PositiveReal, Spec, Vec3
 from .mass_properties import check_inertia, given_mass_properties, mass_properties
 from .rigid_body import RigidBody
 
@@ -139,3 +139,42 @@ class FloatingBody(Spec):
                          hinge_point=None if hinge is None else hinge.point,
                          hinge_axis=None if hinge is None else hinge.axis)
         return body, body.initial_state(self.velocity, self.angular_velocity)
+
+
+class Fairlead(Spec):
+    """Where a mooring line holds a floating body: the point of the body named `body` (a floating solid's
+    name) that is at `point` [m] at t = 0."""
+
+    body: Annotated[str, Field(min_length=1)]
+    point: Vec3
+
+
+class MooringLines(Spec):
+    """Mooring lines computed by MoorDyn v2 (`shoal.mooring`), holding floating bodies at their fairleads.
+
+    Attributes
+    ----------
+    file : str
+        A MoorDyn v2 input file (relative to the case file's folder). Its POINTS of type ``Coupled`` are the
+        fairleads, in the order of `fairleads`.
+    fairleads : list of Fairlead
+        One per coupled point of the file, in its order.
+    name : str
+        Starts the names of the lines' CSV files: ``<name>_line<k>.csv`` (fairlead and anchor tension) and
+        ``<name>_line<k>_nodes.csv`` (node positions), k numbered as in the file.
+    origin : 3 floats
+        The point [m] of the case's frame that is the origin of MoorDyn's (its z = 0 is the still-water
+        level: a case with its bed at z = 0 and water d deep has origin = [0, 0, d]).
+    width : float, optional
+        2D cases only, and required there: the width [m] of the flume that the lines hold (MoorDyn's forces
+        are whole, a 2D body's per metre of width: they are divided by it).
+    interval : float, optional
+        Seconds between the rows of the CSV files; default: the case's output interval.
+    """
+
+    file: CasePath
+    fairleads: Annotated[list[Fairlead], Field(min_length=1)]
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")] = "mooring"
+    origin: Vec3 = (0.0, 0.0, 0.0)
+    width: PositiveReal | None = None
+    interval: PositiveReal | None = None

@@ -71,6 +71,7 @@ from pathlib import Path
 import numpy as np
 
 from .body_loads import body_point
+from .rigid_body import cross3
 from .errors import InputError, InstabilityError
 
 _CHECKPOINT_VERSION = 1
@@ -383,7 +384,7 @@ class Mooring:
         out = [(np.zeros(3), np.zeros(3)) for _ in bodies]
         for k, (b, _) in enumerate(self.fairleads):
             arm = x[k] - states[b].position
-            out[b] = (out[b][0] + f[k], out[b][1] + np.cross(arm, f[k]))
+            out[b] = (out[b][0] + f[k], out[b][1] + cross3(arm, f[k]))
         return out
 
     def body_load(self, body_index):
@@ -398,7 +399,7 @@ class Mooring:
             for k in mine:
                 x, _ = body_point(body, state, self.fairleads[k][1])
                 f = f + self.forces[k]
-                tq = tq + np.cross(x - state.position, self.forces[k])
+                tq = tq + cross3(x - state.position, self.forces[k])
             return f, tq
 
         return load
@@ -505,6 +506,27 @@ class Mooring:
             self.close()
 
 
+TENSION_HEADER = ["time [s]", "fairlead_tension [N]", "anchor_tension [N]"]
+"""The header of a line's tension CSV (`MooringRecorder`)."""
+
+
+def nodes_header(mooring, line):
+    """The header of the node-position CSV of line `line` (0-based) of `mooring`."""
+    n_nodes = len(mooring.line_nodes(line))
+    return ["time [s]"] + [f"{q}{i} [m]" for i in range(n_nodes) for q in ("x", "y", "z")]
+
+
+def tension_row(mooring, line, t):
+    """A row of line `line`'s tension CSV at time `t` [s]: t, |F_B|, |F_A| (`Mooring.line_end_forces`), as text."""
+    fa, fb = mooring.line_end_forces(line)
+    return [f"{t:.9g}", f"{np.linalg.norm(fb):.9g}", f"{np.linalg.norm(fa):.9g}"]
+
+
+def nodes_row(mooring, line, t):
+    """A row of line `line`'s node-position CSV at time `t` [s], as text."""
+    return [f"{t:.9g}"] + [f"{v:.9g}" for v in mooring.line_nodes(line).ravel()]
+
+
 class MooringRecorder:
     """CSV files of a `Mooring`'s lines, one row per `record` call.
 
@@ -531,11 +553,8 @@ class MooringRecorder:
         self.directory.mkdir(parents=True, exist_ok=True)
         self.paths, self._files, self._writers = [], [], []
         for k in range(1, mooring.n_lines + 1):
-            n_nodes = len(mooring.line_nodes(k - 1))
-            nodes = [f"{q}{i} [m]" for i in range(n_nodes) for q in ("x", "y", "z")]
-            for path, header in ((self.directory / f"mooring_line{k}.csv",
-                                  ["time [s]", "fairlead_tension [N]", "anchor_tension [N]"]),
-                                 (self.directory / f"mooring_line{k}_nodes.csv", ["time [s]"] + nodes)):
+            for path, header in ((self.directory / f"mooring_line{k}.csv", TENSION_HEADER),
+                                 (self.directory / f"mooring_line{k}_nodes.csv", nodes_header(mooring, k - 1))):
                 self.paths.append(path)
                 if resume_time is not None and path.exists():
                     _truncate_after(path, float(resume_time))
@@ -550,9 +569,8 @@ class MooringRecorder:
         """Append one row per file: the lines as they are now (after the last `Mooring.loads`, that is at
         its t + dt), at time `t` [s]."""
         for k in range(self.mooring.n_lines):
-            fa, fb = self.mooring.line_end_forces(k)
-            self._writers[2 * k].writerow([f"{t:.9g}", f"{np.linalg.norm(fb):.9g}", f"{np.linalg.norm(fa):.9g}"])
-            self._writers[2 * k + 1].writerow([f"{t:.9g}"] + [f"{v:.9g}" for v in self.mooring.line_nodes(k).ravel()])
+            self._writers[2 * k].writerow(tension_row(self.mooring, k, t))
+            self._writers[2 * k + 1].writerow(nodes_row(self.mooring, k, t))
         for fh in self._files:
             fh.flush()
 

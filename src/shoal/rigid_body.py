@@ -109,7 +109,7 @@ class BodyState(NamedTuple):
     angular_acceleration: np.ndarray
 
 
-def _cross(a, b):
+def cross3(a, b):
     """a x b of two 3-vectors (NumPy's cross costs tens of microseconds on 3-vectors)."""
     a0, a1, a2 = float(a[0]), float(a[1]), float(a[2])
     b0, b1, b2 = float(b[0]), float(b[1]), float(b[2])
@@ -177,7 +177,7 @@ class RigidBody:
                 self.hinge_point = self.hinge_point * np.array([1.0, 0.0, 1.0])
             self.free_translation = np.zeros(3)
             self.rotation_mode, self.axis = "axis", a
-            arm = _cross(a, self.centre0 - self.hinge_point)
+            arm = cross3(a, self.centre0 - self.hinge_point)
             self.axis_inertia = float(a @ self.inertia0 @ a) + self.mass * float(arm @ arm)
             return
         self.free_translation = np.array([0.0 if k in fixed else 1.0 for k in ("x", "y", "z")])
@@ -202,7 +202,7 @@ class RigidBody:
         w = self._projected_omega(np.asarray(angular_velocity, float))
         c = self.centre0.copy()
         if self.hinge_point is not None:
-            v = _cross(w, c - self.hinge_point)
+            v = cross3(w, c - self.hinge_point)
         z = np.zeros(3)
         return BodyState(c, np.eye(3), v, w, self.inertia0 @ w, z, z.copy())
 
@@ -286,12 +286,12 @@ class RigidBody:
         """v += h F / M, L += h T with the body held still (a hinge: omega_a += h a.(T + (c - p) x F) / I_p)."""
         if self.hinge_point is not None:
             a = self.axis
-            tau = float(a @ (torque + _cross(lever - self.hinge_point, force)))
+            tau = float(a @ (torque + cross3(lever - self.hinge_point, force)))
             alpha = tau / self.axis_inertia
             w = state.angular_velocity + (h * alpha) * a
             arm = state.position - self.hinge_point
-            v = _cross(w, arm)
-            acc = _cross(alpha * a, arm) + _cross(w, v)
+            v = cross3(w, arm)
+            acc = cross3(alpha * a, arm) + cross3(w, v)
             return state._replace(velocity=v, angular_velocity=w, angular_momentum=self._momentum(state, w),
                                   acceleration=acc, angular_acceleration=alpha * a)
         acc = force * self.free_translation / self.mass
@@ -301,7 +301,7 @@ class RigidBody:
             w = self._omega(state.rotation, big_l)
             wm = 0.5 * (w + state.angular_velocity)
             # Euler's equations, I_w alpha = T - omega x I_w omega (the acceleration the walls report)
-            alpha = self._omega(state.rotation, torque - _cross(wm, self._momentum(state, wm)))
+            alpha = self._omega(state.rotation, torque - cross3(wm, self._momentum(state, wm)))
             return state._replace(velocity=v, angular_velocity=w, angular_momentum=big_l, acceleration=acc,
                                   angular_acceleration=alpha)
         if self.rotation_mode == "axis":
@@ -335,7 +335,7 @@ class RigidBody:
             p = self.hinge_point
             c = p + g @ (state.position - p)
             w = state.angular_velocity
-            return state._replace(position=c, rotation=rot, velocity=_cross(w, c - p))
+            return state._replace(position=c, rotation=rot, velocity=cross3(w, c - p))
         big_l = state.angular_momentum
         rows = (state.rotation @ self.principal).T  # rows: the principal axes A_k, world components
         a = [[float(x) for x in row] for row in rows]

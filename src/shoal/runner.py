@@ -190,6 +190,7 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
     from .casefile import dumps_case, write_case
     from .probes import make_recorder
     from .probes.body_recorder import BodyRecorder
+    from .probes.mooring_recorder import mooring_recorders
     from .simulation import IterationInterval
     from .simulation.checkpoint import CheckpointWriter, set_aside_csvs
     from .simulation.signals import StopOnSignals
@@ -221,6 +222,10 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
         rec = BodyRecorder(model, j, probe_dir)
         sim.add_callback(rec, TimeInterval(spec.interval or case.output.interval), name=f"body {rec.name}")
         recorders.append(rec)
+    for spec, mooring in zip(case.moorings, model.floating.moorings):  # the lines' tensions and shapes
+        for rec in mooring_recorders(mooring, spec.name, probe_dir):
+            sim.add_callback(rec, TimeInterval(spec.interval or case.output.interval), name=f"mooring {rec.path.name}")
+            recorders.append(rec)
     writer = procs.snapshot_writer(out_dir, case.name, resume=ck is not None)
     sim.add_callback(writer, TimeInterval(case.output.interval), name="snapshots")
     bar = ProgressBar(case.end_time, progress and procs.rank == 0)

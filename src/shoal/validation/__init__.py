@@ -26,6 +26,7 @@ from .core import (CaseResult, Metric, PendingCase, ValidationCase, find_validat
 from .dam_break import DamBreak2D
 from .flap import FlapWaves
 from .focused_wave import FocusedWave
+from .heave_decay import HeaveDecay
 from .hydrostatic import Hydrostatic
 from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
@@ -38,7 +39,7 @@ from .wave_flume import WaveFlume
 __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", "CaseResult", "Metric",
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
-           "FlapWaves", "FocusedWave",
+           "FlapWaves", "FocusedWave", "HeaveDecay",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 
 QUICK_SET_LIMIT = 600.0

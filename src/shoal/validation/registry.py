@@ -9,6 +9,7 @@ from .bridge_piers import BridgePiers
 from .dam_break import DamBreak2D
 from .flap import FlapWaves
 from .focused_wave import FocusedWave
+from .heave_decay import HeaveDecay
 from .hydrostatic import Hydrostatic
 from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
@@ -35,6 +36,7 @@ def all_cases():
         BridgePiers(),
         ActiveAbsorptionCase(),
         FlapWaves(),
+        HeaveDecay(),
     ]
 
 
