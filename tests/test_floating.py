@@ -87,10 +87,11 @@ def test_body_csv_columns_and_loads(released):
     of the rows' own particle positions)."""
     res, case, (head, rows) = released
     assert head == ["time", "x", "y", "z", "qw", "qx", "qy", "qz", "roll", "pitch", "yaw", "vx", "vy", "vz",
-                    "wx", "wy", "wz", "fx", "fy", "fz", "tx", "ty", "tz"]
+                    "wx", "wy", "wz", "fx", "fy", "fz", "tx", "ty", "tz", "cfx", "cfy", "cfz", "ctx", "cty", "ctz"]
     col = {c: k for k, c in enumerate(head)}
     assert np.allclose(np.diff(rows[:, 0]), 0.01) and rows[0, 0] == 0.0 and rows[-1, 0] == pytest.approx(3.0)
-    for c in ("y", "vy", "roll", "yaw", "qx", "qz", "wx", "wz", "fy", "tx", "tz"):
+    for c in ("y", "vy", "roll", "yaw", "qx", "qz", "wx", "wz", "fy", "tx", "tz", "cfx", "cfy", "cfz", "ctx", "cty",
+              "ctz"):  # 2D, and it touches nothing
         assert np.all(rows[:, col[c]] == 0.0), c
     q = rows[:, [col[c] for c in ("qw", "qx", "qy", "qz")]]
     assert np.allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-9)
@@ -311,3 +312,43 @@ def test_mooring_case_errors():
     with pytest.raises(Exception, match="mooring input file .*nowhere.txt: not found"):
         build_model(case.model_copy(update={"moorings": [MooringLines(
             file="/nowhere.txt", width=1.0, fairleads=spec.fairleads)]}))
+
+
+def test_a_dense_box_stands_on_the_bed(tmp_path):
+    """Contact (`shoal.physics.contact`): a box of density 2000 standing on the bed under water (no water under
+    it) stays there, 0.4 s: the bed's push carries its weight and the water's pressure on its top (the water's
+    force points down: none of it is under the box), in balance within 1 % of the weight at the end; its
+    lowest particles never sink more than 0.15 dp into the bed (the contact's stiffness is the water's,
+    rho0 c0^2: the overlap under this load is 1e-4 dp; frictionless particles could slide half a spacing into
+    the hollows between the bed's particles, 0.14 dp deep), and it is at rest (|v| < 1 mm/s).
+    (Released from above, a body comes to rest on the film of water it traps under it, one particle thick,
+    which takes SPH a second or more to squeeze out.)"""
+    case = _box_case(dp=0.02, draft=D, end_time=0.4, density=2000.0, interval=0.01)
+    shoal.run_case(case, tmp_path / "run", plot=False, progress=False, handle_signals=False)
+    head, rows = _rows(tmp_path / "run" / "body_box.csv")
+    col = {c: k for k, c in enumerate(head)}
+    end = rows[-1]
+    weight = 2000.0 * B * H * G
+    bottom = rows[:, col["z"]] - H / 2  # the bed's surface is z = 0
+    assert end[col["cfz"]] > weight and end[col["fz"]] < 0
+    assert abs(end[col["fz"]] + end[col["cfz"]] - weight) < 0.01 * weight
+    assert bottom.min() > -0.15 * case.dp, bottom.min() / case.dp
+    assert abs(end[col["vz"]]) < 1e-3 and abs(end[col["vx"]]) < 1e-3
+
+
+def test_a_box_thrown_at_a_wall_stops_at_it(tmp_path):
+    """A floating box touching the tank's end wall, sent into it at 0.5 m/s, is stopped by the contact: its
+    particles never come more than 0.15 dp into the wall (the stiffness is the water's: at this speed the
+    overlap is about v sqrt(m / k) = v dp / c0 per particle pair, 0.01 dp), the wall pushes it back, and it
+    rebounds slower than half its impact speed (the dashpot damps a particle of the water's mass critically;
+    this box has ten times that per contact: measured 0.35 of the impact speed). (Sent from a spacing
+    away, the box stops on the column of water between it and the wall, 0.7 dp from it: SPH water squeezed
+    between two walls leaves slowly.)"""
+    case = _box_case(dp=0.02, draft=0.1, end_time=0.1, x0=L - B, interval=0.002, velocity=(0.5, 0.0, 0.0))
+    shoal.run_case(case, tmp_path / "run", plot=False, progress=False, handle_signals=False)
+    head, rows = _rows(tmp_path / "run" / "body_box.csv")
+    col = {c: k for k, c in enumerate(head)}
+    right = rows[:, col["x"]] + B / 2  # the body's right face; the wall's surface is x = L
+    assert rows[:, col["cfx"]].min() < 0  # pushed back
+    assert right.max() < L + 0.15 * case.dp, (right.max() - L) / case.dp
+    assert -0.5 * 0.5 < rows[:, col["vx"]].min() < 0.0

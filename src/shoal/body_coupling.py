@@ -8,6 +8,9 @@ treatments (Adami, mDBC, dynamic), the particle placement x = c + R (x0 - c0), u
 backend are those of the prescribed motions.
 
 Fluid loads
+    The walls and the other bodies push a body's particles by a contact force when they come within dp of
+    theirs (`shoal.physics.contact`), summed the same way.
+
     At every rate evaluation the force on each boundary particle b (`shoal.physics.forces`, the negative of
     what b does to the fluid, term by term) is summed over the body's particles:
 
@@ -119,6 +122,9 @@ class BodyCoupling:
         self.fluid = np.zeros((nb, 6))
         """F (columns 0-2) and T (3-5) of the fluid on each body at the last rate evaluation [N, N m]: each
         stage reads those of the rates it follows (no rates are computed between them)."""
+        self.contact = np.zeros((nb, 6))
+        """F and T of the contact forces of the walls and the other bodies (`shoal.physics.contact`), the
+        same way."""
         self._start = [b.state for b in self.bodies]
 
     def __bool__(self):
@@ -132,10 +138,11 @@ class BodyCoupling:
         for j, b in enumerate(self.bodies):
             self.centres[j] = b.state.position
         self.fluid[:] = model.floating_loads(self.row, self.centres)
+        self.contact[:] = model.floating_loads(self.row, self.centres, contact=True)
 
     def _total(self, j, state, t):
         f, tq = self.bodies[j].other_loads(state, t)
-        return f + self.fluid[j, :3], tq + self.fluid[j, 3:]
+        return f + self.fluid[j, :3] + self.contact[j, :3], tq + self.fluid[j, 3:] + self.contact[j, 3:]
 
     def _step_moorings(self, t, dt):
         """MoorDyn from t to t + dt, the fairleads moving from the bodies' states at t (an explicit coupling,

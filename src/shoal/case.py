@@ -674,7 +674,7 @@ class Case(BaseModel):
         group)."""
         return [SolidInput(s.shape, s.boundary, s.layers, s.motion is not None or s.floating is not None,
                            s.name or f"solid{i}", group=s.motion if s.floating is None else f"floating {i}",
-                           fit_surface=s.fit_surface)
+                           fit_surface=s.fit_surface, whole=s.floating is not None)
                 for i, s in enumerate(self.solids)]
 
     def resolved_domain(self):

@@ -21,6 +21,7 @@ from .errors import InputError, InstabilityError
 from .options import SPHOptions
 from .particle_store import ParticleStore
 from .physics.body_motion import fill_motion_row, motion_layout
+from .physics.contact import contact_constants
 from .physics.constants import particle_mass, reference_speed, smoothing_length, speed_of_sound
 from .physics.eos import GAMMA, density_of, pressure_of, tait_coefficient
 from .physics.spec import (ADAMI, FIXED, FLUID, MDBC, MOVING, REPULSIVE, REPULSIVE_MOVING, SchemeSpec,
@@ -873,8 +874,9 @@ class Model:
         process: there are none)."""
         return None
 
-    def floating_loads(self, row, centres):
-        """The fluid's force and torque on each floating body now (`shoal.body_coupling`).
+    def floating_loads(self, row, centres, contact=False):
+        """The fluid's force and torque on each floating body now (`shoal.body_coupling`), or with `contact`
+        those of the contact forces of the walls and the other bodies (`shoal.physics.contact`).
 
         Parameters
         ----------
@@ -890,20 +892,28 @@ class Model:
             width, T about y), summed over the body's particles of every process.
         """
         b, n = self.backend, self.n
-        self._wall_force_pass()
         if getattr(self, "_body_buffers", None) is None or self._body_buffers[0].shape != centres.shape:
             self._body_buffers = (b.asarray(centres.copy()), b.zeros((centres.shape[0], 6), np.float64),
                                   b.asarray(np.asarray(row, np.int32).copy()), np.zeros((centres.shape[0], 6)))
         dev_c, dev_out, dev_row, host_out = self._body_buffers
         b.copy_into(dev_c, centres, centres.shape[0])
+        if contact:
+            if getattr(self, "_contact", None) is None or self._contact.shape[0] < n:
+                self._contact = b.zeros((max(n, 1), self.dim), np.float64)
+            dc, k, c = contact_constants(self.rho0, self.c0, self.dp, self.dim)
+            b.timed(b.contact, n, (self.pos, self.vel, self.kind, self.idp, self.motion_of, dev_row, self.grid.cell,
+                                   self.grid.cell_start, self.grid.gdims_arr, self.P, dc, k, c, self._contact))
+            force = self._contact
+        else:
+            self._wall_force_pass()
+            force = self._force
         ghost = self.ghost_flags()
         use_ghost = ghost is not None
         if ghost is None:
             if getattr(self, "_body_no_ghost", None) is None:
                 self._body_no_ghost = b.zeros(1, np.int8)
             ghost = self._body_no_ghost
-        b.body_sums(n, self.pos, self._force, self.kind, self.idp, self.motion_of, ghost, use_ghost, dev_row, dev_c,
-                    dev_out)
+        b.body_sums(n, self.pos, force, self.kind, self.idp, self.motion_of, ghost, use_ghost, dev_row, dev_c, dev_out)
         b.copy_to_host(host_out, dev_out, host_out.shape[0])
         return self.reduce_array(host_out, "sum")
 

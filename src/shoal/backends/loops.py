@@ -19,7 +19,7 @@ from ..timestepping.updates import make_updates
 
 PHYSICS_LOOPS = {"pr2": "particle_pr2", "rates": "particle_rates", "shepard": "shepard", "mls": "mls",
                  "sps": "particle_sps", "wall_velocity": "particle_wall_velocity",
-                 "wall_pressure": "particle_wall_pressure", "mdbc": "particle_mdbc", "wall_force": "particle_wall_force", "probe": "probe",
+                 "wall_pressure": "particle_wall_pressure", "mdbc": "particle_mdbc", "wall_force": "particle_wall_force", "contact": "particle_contact", "probe": "probe",
                  "sensor_moments": "sensor_moments",
                  "free_surface": "free_surface",
                  "wet_walls": "wet_walls"}

@@ -129,6 +129,10 @@ class SolidInput:
     fit_surface: bool = False
     """A bed (`Slope`, `Bathymetry`) whose wall particles go onto layers parallel to its surface
     (`shoal.geometry.surface_fit`)."""
+    whole: bool = False
+    """Its wall layers on every face of its own, measured from its own surface, not only where the fluid is at
+    the start: a floating body may meet the water with any face (one resting on the bed at t = 0 has its
+    bottom layers too)."""
 
 
 @dataclass
@@ -365,6 +369,7 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
             pad_width = [(1 if gs == 0 else 0, 1 if ge == shape[0] else 0)] + [(1, 1)] * (len(axes) - 1)
             padded = np.pad(solid, pad_width, constant_values=True)
             inner = tuple(slice(p0, p0 + n) for (p0, _), n in zip(pad_width, local_shape))
+            inner1 = tuple(slice(1, 1 + n) for n in local_shape)
             own = owner.reshape(local_shape)
             # the distance transforms are the slowest step: each is computed only if a solid needs it
             d_e = d_c = None
@@ -380,6 +385,15 @@ def _generate_on(dim, step, lo, hi, origin, solids, fluids, support_ratio, thick
                         continue
                     if getattr(s.shape, "shell", False):
                         keep |= own == k  # a shell (tank) is exactly as thick as its layers: all of it
+                    elif s.whole:
+                        # distances to its own outside (other solids count as outside); across the slab
+                        # cuts the halo, at least as deep as the layers, holds its true neighbours
+                        mine = own == k
+                        if s.layers is None:
+                            keep |= mine & (distance_transform_edt(np.pad(mine, 1))[inner1] < support_ratio - 1e-6)
+                        else:
+                            keep |= mine & (distance_transform_cdt(np.pad(mine, 1), metric="chessboard")[inner1]
+                                            <= s.layers)
                     elif s.layers is None:
                         if d_e is None:
                             d_e = distance_transform_edt(padded)[inner]

@@ -13,6 +13,7 @@ from types import SimpleNamespace
 from ..neighbours.gather import make_gather, make_point_gather
 from .density_diffusion import make_density_diffusion
 from .eos import make_eos
+from .contact import make_contact
 from .forces import make_wall_force
 from .filters import make_filters
 from .free_surface import make_free_surface
@@ -58,6 +59,7 @@ def build_physics(jit, spec, target="cpu"):
     particle_wall_pressure = make_wall_pressure(j, spec, (w, grad_factor), pressure, make_gather, unpack)
     particle_mdbc = make_mdbc(j, spec, (w, grad_factor), make_point_gather, unpack)
     particle_wall_force = make_wall_force(j, spec, (w, grad_factor), viscous, make_gather, unpack)
+    particle_contact = make_contact(j, spec, make_gather, unpack)
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     sensor_moments = make_sensor_moments(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     wet_walls, free_surface, surface_normal = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
@@ -65,7 +67,7 @@ def build_physics(jit, spec, target="cpu"):
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
                            particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
                            particle_wall_pressure=particle_wall_pressure, particle_mdbc=particle_mdbc,
-                           particle_wall_force=particle_wall_force,
+                           particle_wall_force=particle_wall_force, particle_contact=particle_contact,
                            probe=probe, sensor_moments=sensor_moments, free_surface=free_surface, wet_walls=wet_walls,
                            surface_normal=surface_normal,
                            named_jit=j,

@@ -9,7 +9,9 @@
     x, y and z axes, in that order; a 2D body's rotation about y is its pitch);
     vx, vy, vz [m/s]; wx, wy, wz [rad/s]: velocity of the centre of gravity, angular velocity (world);
     fx, fy, fz [N]; tx, ty, tz [N m]: the fluid's force and its torque about the centre of gravity
-    (`shoal.body_coupling`), measured at the sample's particle positions.
+    (`shoal.body_coupling`), measured at the sample's particle positions;
+    cfx, cfy, cfz [N]; ctx, cty, ctz [N m]: the same of the contact forces of the walls and the other bodies
+    (`shoal.physics.contact`; zero while the body touches nothing).
 
 2D bodies are per metre of width (N/m, N m/m).
 """
@@ -25,7 +27,7 @@ from scipy.spatial.transform import Rotation
 from .recorder_state import Recorder
 
 COLUMNS = ["time", "x", "y", "z", "qw", "qx", "qy", "qz", "roll", "pitch", "yaw", "vx", "vy", "vz", "wx", "wy", "wz",
-           "fx", "fy", "fz", "tx", "ty", "tz"]
+           "fx", "fy", "fz", "tx", "ty", "tz", "cfx", "cfy", "cfz", "ctx", "cty", "ctz"]
 
 
 def orientation(rotation):
@@ -54,10 +56,11 @@ class BodyRecorder(Recorder):
     def __call__(self, sim):
         coupling = sim.model.floating
         centres = np.array([b.state.position for b in coupling.bodies])
-        loads = sim.model.floating_loads(coupling.row, centres)[self.index]
+        loads = sim.model.floating_loads(coupling.row, centres)[self.index].copy()  # the next call reuses its buffer
+        contact = sim.model.floating_loads(coupling.row, centres, contact=True)[self.index]
         s = coupling.bodies[self.index].state
         q, euler = orientation(s.rotation)
-        row = [sim.time, *s.position, *q, *euler, *s.velocity, *s.angular_velocity, *loads]
+        row = [sim.time, *s.position, *q, *euler, *s.velocity, *s.angular_velocity, *loads, *contact]
         row = [float(v) for v in row]
         self.rows.append(row)
         self.writer.writerow([f"{v:.12g}" for v in row])
