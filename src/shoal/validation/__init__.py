@@ -25,6 +25,7 @@ from .core import (CaseResult, Metric, PendingCase, ValidationCase, find_validat
                    utc_date)
 from .dam_break import DamBreak2D
 from .flap import FlapWaves
+from .floating_waves import FloatingBoxWaves
 from .focused_wave import FocusedWave
 from .heave_decay import HeaveDecay
 from .hydrostatic import Hydrostatic
@@ -40,6 +41,7 @@ __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", 
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
            "FlapWaves", "FocusedWave", "HeaveDecay",
+           "FloatingBoxWaves",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 
 QUICK_SET_LIMIT = 600.0

@@ -8,6 +8,7 @@ from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .dam_break import DamBreak2D
 from .flap import FlapWaves
+from .floating_waves import FloatingBoxWaves
 from .focused_wave import FocusedWave
 from .heave_decay import HeaveDecay
 from .hydrostatic import Hydrostatic
@@ -37,6 +38,7 @@ def all_cases():
         ActiveAbsorptionCase(),
         FlapWaves(),
         HeaveDecay(),
+        FloatingBoxWaves(),
     ]
 
 
