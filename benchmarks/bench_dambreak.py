@@ -7,6 +7,7 @@ the device memory the run holds (free memory before the model is built minus
 free memory after the timed steps).
 
     python benchmarks/bench_dambreak.py --dp 0.0085 --steps 100 --precision float32
+    python benchmarks/bench_dambreak.py --dp 0.0085 --steps 100 --floating 800   # the column floats
 
 The case is `shoal.cases.dam_break_dualsphysics` (tank 1.6 x 0.67 x 0.4 m,
 water 0.4 x 0.67 x 0.3 m, hollow column; cubic spline with tensile
@@ -46,6 +47,8 @@ def main(argv=None):
     p.add_argument("--cells-per-support", type=int, default=2)
     p.add_argument("--threads", type=int, default=None, help="Numba threads (default: all)")
     p.add_argument("--backend", default="cpu", choices=["cpu", "cuda"])
+    p.add_argument("--floating", type=float, default=None, metavar="DENSITY",
+                   help="make the column a floating body of this density [kg/m^3] (issue 32: a floating body's cost)")
     args = p.parse_args(argv)
 
 
@@ -60,6 +63,12 @@ def main(argv=None):
 
     case = dam_break_dualsphysics(dp=args.dp, precision=args.precision)
     case = case.with_options(integrator=args.integrator, cells_per_support=args.cells_per_support)
+    if args.floating is not None:
+        from shoal.floating import FloatingBody
+
+        solids = [s if s.name != "column" else s.model_copy(update={"floating": FloatingBody(density=args.floating)})
+                  for s in case.solids]
+        case = case.model_copy(update={"solids": solids}).revalidate()
     mem_before = device_memory(args.backend)
     model = build_model(case, backend=args.backend)
     sim = Simulation(model, end_time=1e9)
@@ -78,7 +87,7 @@ def main(argv=None):
     evals = args.steps * sim.integrator.rate_evaluations_per_step
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     out = {
-        "case": case.name, "backend": args.backend, "dp": args.dp, "precision": args.precision, "integrator": args.integrator,
+        "case": case.name, "floating": args.floating, "backend": args.backend, "dp": args.dp, "precision": args.precision, "integrator": args.integrator,
         "cells_per_support": args.cells_per_support, "threads": numba.get_num_threads(),
         "particles": n, "fluid_particles": case.n_fluid, "steps": args.steps,
         "force_evaluations": evals, "wall_seconds": wall,

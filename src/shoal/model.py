@@ -858,8 +858,9 @@ class Model:
         out[:, [0, 1, 2] if self.dim == 3 else [0, 2]] = f
         return out[self.owned_rows()], self.host(self.idp)[self.owned_rows()]
 
-    def _wall_force_pass(self):
-        """The force of the fluid on each boundary particle into ``self._force`` (`shoal.physics.forces`)."""
+    def _wall_force_pass(self, only_moving=False):
+        """The force of the fluid on each boundary particle into ``self._force`` (`shoal.physics.forces`); with
+        `only_moving` on the moving ones only (0 on the others)."""
         b, n, P = self.backend, self.n, self.P
         if getattr(self, "_force", None) is None or self._force.shape[0] < n:
             self._force = b.zeros((max(n, 1), self.dim), self.dtype)
@@ -867,7 +868,7 @@ class Model:
         ghosts, gid0 = self._ghost_args()
         b.timed(b.wall_force, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                                   self.grid.cell_start, self.grid.gdims_arr, P, self.vwall, self.idp, ghosts, gid0,
-                                  self._force))
+                                  bool(only_moving), self._force))
 
     def ghost_flags(self):
         """(N,) int8 array flagging the rows that are copies of another process's particles, or None (one
@@ -905,7 +906,7 @@ class Model:
                                    self.grid.cell_start, self.grid.gdims_arr, self.P, dc, k, c, self._contact))
             force = self._contact
         else:
-            self._wall_force_pass()
+            self._wall_force_pass(only_moving=True)
             force = self._force
         ghost = self.ghost_flags()
         use_ghost = ghost is not None

@@ -27,8 +27,9 @@ from .spec import FIXED, FLUID, MOVING
 
 def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
     """Return ``particle_wall_force(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr,
-    vwall, idp, ghosts, gid0, force)`` writing F_b of boundary particle i into ``force[i]`` (internal
-    components); `ghosts`, `gid0` as for the rates (`shoal.physics.rates`)."""
+    vwall, idp, ghosts, gid0, only_moving, force)`` writing F_b of boundary particle i into ``force[i]``
+    (internal components); `ghosts`, `gid0` as for the rates (`shoal.physics.rates`); with `only_moving`,
+    of the moving boundary particles only (the floating bodies' loads need no more), 0 on the others."""
     F = spec.float_type
     dim = spec.dim
     zero = F(0.0)
@@ -80,12 +81,12 @@ def make_wall_force(jit, spec, kernels, viscous, make_gather, unpack):
 
     @jit
     def particle_wall_force(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, vwall, idp, ghosts, gid0,
-                            force):
+                            only_moving, force):
         P = unpack(Parr)
         for d in range(dim):
             force[i, d] = zero
         k = kind[i]
-        if k != FIXED and k != MOVING:
+        if k != MOVING and (only_moving or k != FIXED):
             return
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         u = vwall if no_slip else vel
