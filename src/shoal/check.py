@@ -90,7 +90,8 @@ def check_case(case):
     axes = [0, 2] if dim == 2 else [0, 1, 2]
     n_cells = case_cell_count(case)
     n = len(p)
-    mem = solver_bytes(n, dim, o, n_cells, moving=bool(np.any(p.kinds == MOVING)))
+    mem = solver_bytes(n, dim, o, n_cells, moving=bool(np.any(p.kinds == MOVING)),
+                       floating=any(s.floating is not None for s in case.solids))
     dt_c = o.cfl * h / c0
     dt_g = o.cfl * math.sqrt(h / g) if g > 0 else math.inf
     dt = o.fixed_dt if o.fixed_dt is not None else min(dt_c, dt_g)

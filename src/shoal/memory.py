@@ -44,7 +44,7 @@ def check_count(n_estimate, dim):
                          f"{mem / 2**30:.1f} GiB, enough for about {fit:.2g} particles: use a larger dp")
 
 
-def solver_bytes(n, dim, options, n_cells, moving=False):
+def solver_bytes(n, dim, options, n_cells, moving=False, floating=False):
     """Bytes the solver holds for `n` particles (what `Model.nbytes` counts
     once the integrator has allocated its state), in the options' precision.
 
@@ -57,8 +57,9 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
     Verlet: velocity [dim], density); with SPS turbulence, the stress (3
     components in 2D, 6 in 3D); with no-slip walls, the wall velocity
     [dim]; with moving bodies, their initial
-    positions float64 [dim] and motion index (int32). Plus 4 bytes per grid
-    cell.
+    positions float64 [dim] and motion index (int32); with floating bodies,
+    the per-particle fluid force [dim] and contact force (float64 [dim]) their
+    loads are summed from. Plus 4 bytes per grid cell.
     """
     f = np.dtype(options.precision).itemsize
     per = 8 * dim + f * dim * 2 + f * 4 + 1 + 4
@@ -78,6 +79,8 @@ def solver_bytes(n, dim, options, n_cells, moving=False):
         fixed += f * dim
     if moving:
         per += 8 * dim + 4
+    if floating:
+        per += f * dim + 8 * dim
     per += 8 * dim + f * dim + f + 4 + 1
     per += 12
     if options.integrator == "verlet":
@@ -162,7 +165,8 @@ def case_cell_count(case):
 def case_solver_bytes(case):
     """Bytes the solver will hold for `case` (generates its particles)."""
     p = case.particles()
-    return solver_bytes(len(p), case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == MOVING)))
+    return solver_bytes(len(p), case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == MOVING)),
+                        floating=any(s.floating is not None for s in case.solids))
 
 
 NODE_LIMIT = 4e9

@@ -263,6 +263,9 @@ class Model:
         id-indexed wall vectors (`_init_wall_normals`) that turn with it."""
         self.motions = list(motions or [])
         self.floating = BodyCoupling(self.motions, self.dim)  # the floating bodies among them (none: a no-op)
+        if self.floating:  # the per-particle forces their loads are summed from
+            self._force = self.backend.zeros((max(len(kinds), 1), self.dim), self.dtype)
+            self._contact = self.backend.zeros((max(len(kinds), 1), self.dim), np.float64)
         self._rotating = False
         self._wall_vectors = []  # (initial, current) id-indexed tables that turn with a rotating wall
         for m in self.motions:
@@ -536,6 +539,8 @@ class Model:
                   self.pr2, self.xsph, self.tau, self.vwall, *self.scratch.values(), *self.extra_arrays]
         if self.motion_of is not None:
             arrays += [self.pos_init, self.motion_of]
+        if self.floating:
+            arrays += [self._force, self._contact]
         arrays += [a for a in (self.ghost_of, self.wall_normal_of) if a is not None]
         arrays += [initial for initial, _ in getattr(self, "_wall_vectors", ())]
         return sum(int(a.size) * a.dtype.itemsize for a in arrays) + self.grid.nbytes
