@@ -557,9 +557,10 @@ def test_active_absorption_measures_and_moves_the_paddle_as_on_the_cpu(paddle):
 
 @needs_cuda
 def test_floating_body_matches_cpu():
-    """A floating box (`shoal.body_coupling`) released one spacing above its draft in a small 2D tank: the
-    fluid's force and torque summed over its particles (atomic adds on the device), the body's state after
-    three steps, and the particles it places, are the CPU's (float64: to round-off)."""
+    """A floating box (`shoal.body_coupling`) released one spacing above its draft in a small 2D tank, and a
+    dense block standing on the bed: the fluid's force and torque summed over their particles (atomic adds on
+    the device), the bed's contact force on the block (`shoal.physics.contact`), the bodies' states after
+    three steps, and the particles they place, are the CPU's (float64: to round-off)."""
     from shoal.case import Case, Fluid, FluidRegion, Solid
     from shoal.floating import FloatingBody
     from shoal.geometry.shapes import Box, Tank
@@ -569,7 +570,9 @@ def test_floating_body_matches_cpu():
                 options={"precision": "float64"},
                 solids=[Solid(shape=Tank(lo=(0, 0, 0), hi=(0.3, 0, 0.2)), layers=2),
                         Solid(name="box", shape=Box(lo=(0.125, 0, 0.075 + dp), hi=(0.175, 0, 0.125 + dp)), layers=2,
-                              floating=FloatingBody(density=500.0))],
+                              floating=FloatingBody(density=500.0)),
+                        Solid(name="block", shape=Box(lo=(0.025, 0, 0.0), hi=(0.075, 0, 0.025)), layers=2,
+                              floating=FloatingBody(density=2000.0))],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.3, 0, 0.1)))])
     out = []
     for backend in ("cpu", "cuda"):
@@ -577,13 +580,14 @@ def test_floating_body_matches_cpu():
         loads = []
         for _ in range(3):
             sim.step()
-            loads.append(sim.model.floating.fluid[0].copy())
+            loads.append(np.concatenate([sim.model.floating.fluid.ravel(), sim.model.floating.contact.ravel()]))
         m = sim.model
-        s = m.floating.bodies[0].state
-        out.append((np.array(loads), np.concatenate([s.position, s.velocity, s.rotation.ravel(), s.angular_velocity]),
-                    _by_id(m, m.pos)[_by_id(m, m.kind) == 2]))
+        s = np.concatenate([np.concatenate([b.state.position, b.state.velocity, b.state.rotation.ravel(),
+                                            b.state.angular_velocity]) for b in m.floating.bodies])
+        out.append((np.array(loads), s, _by_id(m, m.pos)[_by_id(m, m.kind) == 2]))
     (la, sa, pa), (lb, sb, pb) = out
     assert abs(la[-1, 2]) > 0 and abs(sa[5]) > 0  # loaded, and moving
+    assert la[-1, 12 + 6 + 2] > 0  # the bed pushes the block up
     np.testing.assert_allclose(lb, la, rtol=1e-9, atol=1e-9 * np.abs(la).max())
     np.testing.assert_allclose(sb, sa, rtol=1e-9, atol=1e-12)
     assert np.max(np.abs(pa - pb)) < 1e-12
