@@ -35,6 +35,8 @@ ROUND_TRIP = {
     "tidal-bore": dict(dp=0.025),
     "tidal-bore-piers": dict(dp=0.025),
     "rip-current": dict(dp=0.075),
+    "floating-box-2d": dict(dp=0.025),
+    "moored-box-3d": dict(dp=0.05),
 }
 
 PARTICLE_ARRAYS = ("positions", "kinds", "velocities", "body", "region", "spacing")

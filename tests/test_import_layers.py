@@ -28,7 +28,7 @@ LAYERS = [
     ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.physics.shifting", "shoal.neighbours", "shoal.backends",
      "shoal.timestepping", "shoal.options", "shoal.motions", "shoal.mass_properties", "shoal.rigid_body",
      "shoal.body_loads", "shoal.floating", "shoal.body_coupling", "shoal.active_absorption", "shoal.waves",
-     "shoal.waves.second_order", "shoal.catenary", "shoal.mooring",
+     "shoal.waves.second_order", "shoal.catenary", "shoal.mooring", "shoal.joints",
      "shoal.relaxation", "shoal.analysis", "shoal.output",
      "shoal.memory",
      "shoal.simulation.resources",

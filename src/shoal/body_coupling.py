@@ -125,6 +125,9 @@ class BodyCoupling:
         self.contact = np.zeros((nb, 6))
         """F and T of the contact forces of the walls and the other bodies (`shoal.physics.contact`), the
         same way."""
+        self.joints = []
+        """`shoal.joints.JointLoads` between pairs of the bodies, evaluated at every stage."""
+        self._joint = np.zeros((nb, 6))
         self._start = [b.state for b in self.bodies]
 
     def __bool__(self):
@@ -142,7 +145,16 @@ class BodyCoupling:
 
     def _total(self, j, state, t):
         f, tq = self.bodies[j].other_loads(state, t)
-        return f + self.fluid[j, :3] + self.contact[j, :3], tq + self.fluid[j, 3:] + self.contact[j, 3:]
+        loads = self.fluid[j] + self.contact[j] + self._joint[j]
+        return f + loads[:3], tq + loads[3:]
+
+    def _joints_now(self):
+        """The joints' loads at the bodies' current states, into `_joint`."""
+        if self.joints:
+            self._joint[:] = 0.0
+            bodies, states = [b.body for b in self.bodies], [b.state for b in self.bodies]
+            for jl in self.joints:
+                jl.add_loads(bodies, states, self._joint)
 
     def _step_moorings(self, t, dt):
         """MoorDyn from t to t + dt, the fairleads moving from the bodies' states at t (an explicit coupling,
@@ -155,6 +167,7 @@ class BodyCoupling:
     def predict(self, t, dt):
         """The half step: each body from its state at `t` to t + dt/2 under the loads measured at `t`."""
         self._step_moorings(t, dt)
+        self._joints_now()
         for j, b in enumerate(self.bodies):
             s = b.state
             self._start[j] = s
@@ -164,6 +177,7 @@ class BodyCoupling:
     def correct(self, t, dt):
         """The full step of the symplectic and predictor-corrector schemes: from the state at `t` under
         the loads measured at the half step."""
+        self._joints_now()
         for j, b in enumerate(self.bodies):
             f, tq = self._total(j, b.state, t + 0.5 * dt)
             b.state = b.body.advance(self._start[j], f, tq, dt)
@@ -171,6 +185,7 @@ class BodyCoupling:
     def advance(self, t, dt):
         """Verlet's step: from the state at `t` under the loads measured at `t`."""
         self._step_moorings(t, dt)
+        self._joints_now()
         for j, b in enumerate(self.bodies):
             s = b.state
             f, tq = self._total(j, s, t)

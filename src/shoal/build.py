@@ -7,6 +7,7 @@ import numpy as np
 from .active_absorption import absorbing_paddles
 from .body_coupling import floating_bodies
 from .errors import InputError
+from .joints import joint_loads
 from .model import Model
 from .motions import check_motion_speeds
 from .physics.spec import FIXED, FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING
@@ -60,6 +61,7 @@ def build_model(case, backend="cpu"):
                 periodic=tuple(case.domain.periodic) if case.domain else (),
                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
     model.floating.moorings = moorings
+    model.floating.joints = joint_loads(case, [b.name for b in floating], [b.body for b in floating])
     model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges
     model.body_names = [s.name for s in case.solids]
     return model

@@ -31,6 +31,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from .errors import InputError
 from .floating import FloatingBody, MooringLines
+from .joints import Joint
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
@@ -318,6 +319,8 @@ class Case(BaseModel):
     planes : list of WallPlane
     moorings : list of MooringLines
         Mooring lines (MoorDyn v2) holding the floating solids (`shoal.floating.MooringLines`).
+    joints : list of Joint
+        Pins and hinges between two floating solids (`shoal.joints.Joint`).
     probes : list of PointProbes / WaveGauge (`shoal.probes`)
     domain : Domain, optional
         Default: the particles' bounding box grown by the kernel support 2h
@@ -356,6 +359,7 @@ class Case(BaseModel):
     relaxation: list[RelaxationZone] = []
     planes: list[WallPlane] = []
     moorings: list[MooringLines] = []
+    joints: list[Joint] = []
     probes: list[AnyProbe] = []
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
@@ -388,6 +392,13 @@ class Case(BaseModel):
                                  "whole: give width, the flume's width [m] the lines hold")
             if self.dim == 3 and m.width is not None:
                 raise ValueError(f"moorings[{i}].width = {m.width:g}: only for 2D cases (per metre of width)")
+        for i, j in enumerate(self.joints):
+            for k, name in enumerate(j.bodies):
+                if name not in floating:
+                    raise ValueError(f"joints[{i}].bodies[{k}] = {name!r} is no floating solid "
+                                     f"(floating: {', '.join(map(repr, floating)) or 'none'})")
+            if self.dim == 2 and j.axis is not None and not (j.axis[0] == 0.0 and j.axis[2] == 0.0):
+                raise ValueError(f"joints[{i}].axis = {list(j.axis)}: a 2D joint turns about y; leave the axis out")
         mnames = [m.name for m in self.moorings]
         if len(set(mnames)) != len(mnames):
             raise ValueError(f"moorings named {sorted({n for n in mnames if mnames.count(n) > 1})} more than once: "
