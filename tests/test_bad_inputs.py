@@ -600,3 +600,17 @@ def test_check_shows_a_description_without_its_control_characters(tmp_path, caps
     assert _cli(["check", str(tmp_path / "case.toml")]) == 0, capsys.readouterr().err
     out = capsys.readouterr().out
     assert "\x1b" not in out and "\x07" not in out and out.splitlines()[0] == "case tank: x?[31mred?"
+
+
+def test_a_parameter_key_with_a_line_break_is_shown_escaped():
+    """A key holding a control character (found by tests/test_bad_inputs_property.py: "\\r") is shown quoted
+    with its escapes, so the error stays one line."""
+    import shoal
+    from shoal.geometry import Box
+
+    with pytest.raises(ValueError) as err:
+        shoal.Case(name="k", dim=2, dp=0.02, fluid=shoal.Fluid(depth=0.3), parameters={"\r": [None]},
+                   fluids=[shoal.FluidRegion(shape=Box(lo=(0, 0, 0), hi=(1, 0, 0.3)))])
+    msg = str(err.value).splitlines()[-1]
+    assert "'\\r'[0] = nothing: a parameter is a number" in str(err.value)
+    assert "\r" not in msg

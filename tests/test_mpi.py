@@ -1098,11 +1098,11 @@ def test_the_distributed_model_overrides_no_physics_method():
     assert all(h in vars(Model) and h in vars(DistributedModel) for h in hooks)
     # the probe and output queries are the Model's, written once over the hooks; what else the distributed
     # model overrides is its storage: the sort (migration, halo, load balancing), the arrays it keeps
-    # mirrored, the fluid it owns and the per-rank checkpoint
+    # mirrored, the fluid it owns, its ghost rows and the per-rank checkpoint
     queries = ("sample", "sensor_moments", "world_positions", "world_velocities", "pressure", "fields",
                "owned_particles", "particle_positions", "nearest_fluid", "flow_sample", "shoreline", "highest_fluid")
     assert all(q in vars(Model) for q in queries)
-    storage = ("__init__", "sort", "new_array", "n_fluid", "checkpoint_arrays", "require_fluid")
+    storage = ("__init__", "sort", "new_array", "n_fluid", "checkpoint_arrays", "require_fluid", "ghost_flags")
     overrides = {k for k in vars(DistributedModel) if k in vars(Model) and k not in ("__module__", "__doc__")}
     assert overrides == set(hooks) | set(storage), sorted(overrides)
 

@@ -71,11 +71,17 @@ def _plain_record(d):
         if isinstance(v, (list, tuple)):
             return [plain(x, f"{where}[{i}]", depth + 1) for i, x in enumerate(v)]
         if isinstance(v, dict) and all(isinstance(k, str) for k in v):
-            return {k: plain(x, f"{where}.{k}", depth + 1) for k, x in v.items()}
+            return {k: plain(x, f"{where}.{_shown_key(k)}", depth + 1) for k, x in v.items()}
         shown = "nothing" if v is None else repr(v)[:60]
         raise ValueError(f"{where} = {shown}: a parameter is a number, string, boolean, array or table")
 
-    return {k: (None if v is None else plain(v, str(k))) for k, v in d.items()}
+    return {k: (None if v is None else plain(v, _shown_key(str(k)))) for k, v in d.items()}
+
+
+def _shown_key(k):
+    """A key as an error message shows it: as written, or quoted with its escapes when it holds characters
+    that are not printable (a line break would split the one-line message)."""
+    return k if k.isprintable() else repr(k)
 
 
 class Domain(Spec):

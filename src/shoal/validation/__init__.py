@@ -19,6 +19,7 @@ import traceback
 from pathlib import Path
 
 from .active_absorption import ActiveAbsorptionCase
+from .archimedes import Archimedes
 from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .core import (CaseResult, Metric, PendingCase, ValidationCase, find_validation_dir, machine_text, source_state,
@@ -42,6 +43,7 @@ __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", 
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
            "FlapWaves", "FocusedWave", "HeaveDecay",
            "FloatingBoxWaves",
+           "Archimedes",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 
 QUICK_SET_LIMIT = 600.0

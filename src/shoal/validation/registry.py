@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from .active_absorption import ActiveAbsorptionCase
+from .archimedes import Archimedes
 from .bores import TidalBores, UndularAmplitude
 from .bridge_piers import BridgePiers
 from .dam_break import DamBreak2D
@@ -39,6 +40,7 @@ def all_cases():
         FlapWaves(),
         HeaveDecay(),
         FloatingBoxWaves(),
+        Archimedes(),
     ]
 
 
