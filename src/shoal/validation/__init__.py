@@ -35,13 +35,14 @@ from .poiseuille import Poiseuille
 from .registry import VALIDATION_CASES, get_cases
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
+from .roll_decay import RollDecay
 from .spheric_test2 import SphericTest2
 from .wave_flume import WaveFlume
 
 __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", "CaseResult", "Metric",
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
-           "FlapWaves", "FocusedWave", "HeaveDecay",
+           "FlapWaves", "FocusedWave", "HeaveDecay", "RollDecay",
            "FloatingBoxWaves",
            "Archimedes",
            "PendingCase", "find_validation_dir", "default_quick_set"]

@@ -383,25 +383,97 @@ def heave_decay_case(dp=0.02, offset=0.02, length=4.0, zone=1.0, end_time=3.0, i
                          DampingZone(start=(length - zone, 0, 0), end=(length, 0, 0))])
 
 
-def run_heave_decay(out, backend="cpu", **kw):
-    """Run `heave_decay_case` (keywords passed on) in `out`; return (t, z, wall seconds, fluid particles)."""
+TOLERANCE = 0.10
+"""Issue 32, must-show 3: the period and the damping ratio within 10 % of the reference."""
+
+
+def run_decay(case, out, column, backend="cpu"):
+    """Run a free-decay `case` in `out`; return (t, the ``body_box.csv`` `column`, wall seconds, fluid
+    particles)."""
     from .. import run_case
 
-    case = heave_decay_case(**kw)
     t0 = time.perf_counter()
     run_case(case, out, backend=backend, plot=False, progress=False, handle_signals=False, overwrite=True)
     wall = time.perf_counter() - t0
     lines = (Path(out) / "body_box.csv").read_text().splitlines()
     head = lines[0].split(",")
     rows = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    return rows[:, head.index("time")], rows[:, head.index("z")], wall, case.n_fluid
+    return rows[:, head.index("time")], rows[:, head.index(column)], wall, case.n_fluid
 
 
-TOLERANCE = 0.10
-"""Issue 32, must-show 3: the period and the damping ratio within 10 % of the reference."""
+def run_heave_decay(out, backend="cpu", **kw):
+    """Run `heave_decay_case` (keywords passed on) in `out`; return (t, z, wall seconds, fluid particles)."""
+    return run_decay(heave_decay_case(**kw), out, "z", backend)
 
 
-class HeaveDecay(ValidationCase):
+class FreeDecay(ValidationCase):
+    """A floating box's free decay against a linear prediction: the run, the analysis and the figure shared
+    by `HeaveDecay` and `shoal.validation.roll_decay.RollDecay`.
+
+    Subclasses set `column` (of ``body_box.csv``), `scale` (the record's unit for the figure), `ylabel`,
+    `figure_name`, `metric_names` (period, damping) and `judge_damping`, and define `make_case` (the case from
+    `params`' keywords) and `prediction` (the reference's dict, as `heave_decay_prediction`'s).
+    """
+
+    column, scale, ylabel, figure_name = "z", 1.0, "", "decay.png"
+    metric_names = ("damped period", "damping ratio")
+    judge_damping = True
+
+    @staticmethod
+    def params(quick):
+        """Arguments of `make_case` and the cycles analysed."""
+        if quick:
+            return dict(dp=0.02, length=4.0, end_time=3.0, cycles=2)
+        return dict(dp=0.01, end_time=3.0, cycles=2)
+
+    def make_case(self, **kw):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def prediction(self):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def run(self, quick, backend, out):
+        res = self.new_result(quick, backend, out)
+        p = dict(self.params(quick))
+        cycles = p.pop("cycles")
+        with tempfile.TemporaryDirectory(prefix="shoal-validate-") as tmp:
+            t, rec, wall, n_fluid = run_decay(self.make_case(**p), Path(tmp) / "run", self.column, backend)
+        res.run_seconds = wall
+        res.data = dict(t=t.tolist(), record=rec.tolist(), cycles=cycles, dp=p["dp"])
+        res.resolution = f"dp = {p['dp']} m (B = {BEAM / p['dp']:.0f} dp, T = {DRAFT / p['dp']:.0f} dp)"
+        res.particles = f"{n_fluid} fluid"
+        return res
+
+    def compare(self, result):
+        ref = self.prediction()
+        t, rec = np.array(result.data["t"]), np.array(result.data["record"])
+        m = decay_period_and_damping(t, rec, cycles=result.data["cycles"])
+        result.data["measured"] = {k: v for k, v in m.items() if k != "extrema"}
+        result.data["reference"] = ref
+        result.metrics = [
+            Metric(self.metric_names[0], m["period_d"] / ref["period_d"] - 1, TOLERANCE,
+                   note=f"{m['period_d']:.4f} s against {ref['period_d']:.4f} s"),
+            Metric(self.metric_names[1], m["zeta"] / ref["zeta"] - 1, TOLERANCE if self.judge_damping else None,
+                   note=f"{m['zeta']:.4f} against {ref['zeta']:.4f}"),
+        ]
+        fig = figure()
+        ax = fig.add_subplot(1, 1, 1)
+        ax.plot(t, (rec - m["level"]) / self.scale, "k-", lw=1, label=f"SPH, {result.resolution}")
+        te, ze = m["extrema"]
+        t0 = te[0]
+        w_d = 2 * math.pi / ref["period_d"]
+        tt = t[t >= t0]
+        lin = (ze[0] - m["level"]) * np.exp(-ref["zeta"] * ref["omega_n"] * (tt - t0)) * np.cos(w_d * (tt - t0))
+        ax.plot(tt, lin / self.scale, "r--", lw=1, label="linear potential flow from the first extremum")
+        ax.plot(te, (np.array(ze) - m["level"]) / self.scale, "bo", ms=3, label="extrema analysed")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(self.ylabel)
+        ax.legend(fontsize=7)
+        path = save_png(fig, Path(result.out) / self.figure_name)
+        return [path], all(x.passed for x in result.metrics if x.tolerance is not None)
+
+
+class HeaveDecay(FreeDecay):
     """Free heave decay of a floating 2D box (B/T = 2) against linear potential-flow theory."""
 
     name = "heave-decay"
@@ -422,49 +494,11 @@ class HeaveDecay(ValidationCase):
                  "`src/shoal/data/" + DATA_FILE + "`.")
     tolerance_text = "Issue 32, must-show 3: damped period and damping ratio each within 10 % of the reference."
 
-    @staticmethod
-    def params(quick):
-        """Arguments of `heave_decay_case` and the cycles analysed."""
-        if quick:
-            return dict(dp=0.02, length=4.0, end_time=3.0, cycles=2)
-        return dict(dp=0.01, end_time=3.0, cycles=2)
+    column, scale, ylabel, figure_name = "z", DRAFT, "heave / T", "heave_decay.png"
+    metric_names = ("damped heave period against potential flow", "heave damping ratio against potential flow")
 
-    def run(self, quick, backend, out):
-        res = self.new_result(quick, backend, out)
-        p = dict(self.params(quick))
-        cycles = p.pop("cycles")
-        with tempfile.TemporaryDirectory(prefix="shoal-validate-") as tmp:
-            t, z, wall, n_fluid = run_heave_decay(Path(tmp) / "run", backend=backend, **p)
-        res.run_seconds = wall
-        res.data = dict(t=t.tolist(), z=z.tolist(), cycles=cycles, dp=p["dp"])
-        res.resolution = f"dp = {p['dp']} m (B = {BEAM / p['dp']:.0f} dp, T = {DRAFT / p['dp']:.0f} dp)"
-        res.particles = f"{n_fluid} fluid"
-        return res
+    def make_case(self, **kw):
+        return heave_decay_case(**kw)
 
-    def compare(self, result):
-        ref = prediction_from_table()
-        t, z = np.array(result.data["t"]), np.array(result.data["z"])
-        m = decay_period_and_damping(t, z, cycles=result.data["cycles"])
-        result.data["measured"] = {k: v for k, v in m.items() if k != "extrema"}
-        result.data["reference"] = ref
-        result.metrics = [
-            Metric("damped heave period against potential flow", m["period_d"] / ref["period_d"] - 1, TOLERANCE,
-                   note=f"{m['period_d']:.4f} s against {ref['period_d']:.4f} s"),
-            Metric("heave damping ratio against potential flow", m["zeta"] / ref["zeta"] - 1, TOLERANCE,
-                   note=f"{m['zeta']:.4f} against {ref['zeta']:.4f}"),
-        ]
-        fig = figure()
-        ax = fig.add_subplot(1, 1, 1)
-        ax.plot(t, (z - m["level"]) / DRAFT, "k-", lw=1, label=f"SPH, {result.resolution}")
-        te, ze = m["extrema"]
-        t0 = te[0]
-        w_d = 2 * math.pi / ref["period_d"]
-        tt = t[t >= t0]
-        lin = (ze[0] - m["level"]) * np.exp(-ref["zeta"] * ref["omega_n"] * (tt - t0)) * np.cos(w_d * (tt - t0))
-        ax.plot(tt, lin / DRAFT, "r--", lw=1, label="linear potential flow from the first extremum")
-        ax.plot(te, (np.array(ze) - m["level"]) / DRAFT, "bo", ms=3, label="extrema analysed")
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("heave / T")
-        ax.legend(fontsize=7)
-        path = save_png(fig, Path(result.out) / "heave_decay.png")
-        return [path], all(x.passed for x in result.metrics)
+    def prediction(self):
+        return prediction_from_table()

@@ -17,6 +17,7 @@ from .periodic_runup import PeriodicRunup
 from .poiseuille import Poiseuille
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
+from .roll_decay import RollDecay
 from .spheric_test2 import SphericTest2
 from .wave_flume import WaveFlume
 
@@ -39,6 +40,7 @@ def all_cases():
         ActiveAbsorptionCase(),
         FlapWaves(),
         HeaveDecay(),
+        RollDecay(),
         FloatingBoxWaves(),
         Archimedes(),
     ]
