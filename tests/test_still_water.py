@@ -109,7 +109,7 @@ def test_still_water_3d():
     depth, length, width = 0.3, 0.3, 0.3
     case = still_water_3d(dp=0.03, depth=depth, length=length, width=width, layers=3)
     h = case.options.coef_h * 3**0.5 * case.dp
-    check_hydrostatic(case, depth, (length, width), t_end=1.0, t_avg=0.3, below_surface=2 * h)
+    check_hydrostatic(case, depth, (length, width), t_end=0.6, t_avg=0.2, below_surface=2 * h)
 
 
 @pytest.mark.validation
