@@ -62,6 +62,16 @@ def build_model(case, backend="cpu"):
                 planes=[(pl.point, pl.normal) for pl in case.planes], symmetry_y=sym, backend=backend)
     model.floating.moorings = moorings
     model.floating.joints = joint_loads(case, [b.name for b in floating], [b.body for b in floating])
+    if case.open_boundaries:
+        from .particle_buffers import BufferZones
+
+        if world() is not None:
+            raise InputError("open boundaries run in one process for now; run without mpiexec")
+        if case.options.shifting != "none":
+            raise InputError(f"options.shifting = {case.options.shifting!r} with open boundaries: shifting would "
+                             "move the buffers' particles off their lattice; use shifting = \"none\"")
+        model.buffers = BufferZones(model, case.open_boundaries, p.zone, case.lattice_origin,
+                                    float(np.linalg.norm(fl.gravity)))
     model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges
     model.body_names = [s.name for s in case.solids]
     return model

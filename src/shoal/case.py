@@ -32,6 +32,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 from .errors import InputError
 from .floating import FloatingBody, MooringLines
 from .joints import Joint
+from .open_boundary import OpenBoundary
 from .geometry.generate import FluidInput, Particles, SolidInput, generate, support_layers
 from .geometry.shapes import AnyShape, PositiveReal, Real, Spec, UnitVec3, Vec3
 from .motions import AnyMotion
@@ -208,7 +209,7 @@ class FluidRegion(Spec):
 
 class SymmetryPlane(Spec):
     """A symmetry plane ("domain separation" of the tidal-bore paper, section
-    2.4): the flow is mirrored across the plane through `point` with unit
+    2.4): the flow is mirrored across the plane through ``point`` with unit
     `normal` (pointing into the fluid), so half a symmetric flume stands for
     the whole one.
 
@@ -225,7 +226,7 @@ class SymmetryPlane(Spec):
 
 
 class WallPlane(Spec):
-    """A wall without particles (GPUSPH's planes): the plane through `point`
+    """A wall without particles (GPUSPH's planes): the plane through ``point``
     with `normal` pointing into the fluid pushes fluid away with the force of
     a Monaghan-Kajtar particle wall in the continuum limit
     (`shoal.physics.planes`); free-slip. Fluid behind it is not generated."""
@@ -327,6 +328,8 @@ class Case(BaseModel):
         Mooring lines (MoorDyn v2) holding the floating solids (`shoal.floating.MooringLines`).
     joints : list of Joint
         Pins and hinges between two floating solids (`shoal.joints.Joint`).
+    open_boundaries : list of OpenBoundary
+        Inflow and outflow planes with their buffers of particles (`shoal.open_boundary`).
     probes : list of PointProbes / WaveGauge (`shoal.probes`)
     domain : Domain, optional
         Default: the particles' bounding box grown by the kernel support 2h
@@ -366,6 +369,7 @@ class Case(BaseModel):
     planes: list[WallPlane] = []
     moorings: list[MooringLines] = []
     joints: list[Joint] = []
+    open_boundaries: list[OpenBoundary] = []
     probes: list[AnyProbe] = []
     domain: Domain | None = None
     lattice_origin: Vec3 = (0.0, 0.0, 0.0)
@@ -682,8 +686,50 @@ class Case(BaseModel):
                                  "solid), outside the domain, or is thinner than dp; check the solids' shapes")
         if self.dim == 2:
             p.positions[:, 1] = 0.0
+        if self.open_boundaries:
+            p = self._with_buffers(p)
         self._particles, self._key = p, key
         return p
+
+    def _with_buffers(self, p):
+        """`p` with the open boundaries' buffer particles after the fluid's (before the walls', so that the
+        walls' ids stay one block): fluid particles at rest or at the imposed velocity, `zone` naming each
+        one's boundary."""
+        from scipy.spatial import cKDTree
+
+        support = 2.0 * self.smoothing_length
+        add, zones, vels = [], [], []
+        for k, ob in enumerate(self.open_boundaries):
+            try:
+                pts = ob.buffer_lattice(self.dim, self.dp, np.asarray(self.lattice_origin, float), support)
+            except ValueError as err:
+                raise InputError(str(err)) from None
+            if self.dim == 2:
+                pts[:, 1] = 0.0
+            v = np.zeros_like(pts)
+            u = ob.speed(pts[:, 2], self.dim)
+            if u is not None:
+                v[:, ob.axis] = ob.sign * u
+            add.append(pts)
+            zones.append(np.full(len(pts), k, np.int16))
+            vels.append(v)
+        pts, zone, vel = np.concatenate(add), np.concatenate(zones), np.concatenate(vels)
+        near, _ = cKDTree(p.positions).query(pts, distance_upper_bound=0.5 * self.dp)
+        clash = np.isfinite(near)
+        if clash.any():
+            k = int(zone[np.argmax(clash)])
+            raise InputError(f"open boundary {self.open_boundaries[k].name!r}: its buffer overlaps the case's "
+                             f"particles at {int(clash.sum())} places (first at {pts[np.argmax(clash)].round(6).tolist()} "
+                             "m): the buffer lies behind its plane, outside the fluid regions and the solids; "
+                             "end them at the plane")
+        n_fl = int(np.count_nonzero(p.body < 0))
+        cat = lambda a, b: np.concatenate([a[:n_fl], b, a[n_fl:]])  # noqa: E731
+        m = len(pts)
+        normals = None if p.normals is None else cat(p.normals, np.zeros((m, 3)))
+        return Particles(cat(p.positions, pts), cat(p.kinds, np.full(m, FLUID, p.kinds.dtype)),
+                         cat(p.velocities, vel), cat(p.body, np.full(m, -1, p.body.dtype)),
+                         cat(p.region, np.full(m, -1, p.region.dtype)), cat(p.spacing, np.full(m, self.dp)),
+                         p.body_names, normals, cat(np.full(len(p), -1, np.int16), zone))
 
     def solid_inputs(self):
         """The solids as the particle generator takes them (`shoal.geometry.generate.SolidInput`): a solid

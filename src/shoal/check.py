@@ -65,6 +65,35 @@ def floating_lines(case):
     return lines
 
 
+def open_boundary_lines(case):
+    """Lines giving each open boundary's plane, buffer and flow (`shoal.open_boundary.OpenBoundary`): the
+    discharge an imposed velocity brings in, as particles a second, and what that adds to the particle count
+    and the solver's memory over the run were none to leave (the count's ceiling while a channel fills)."""
+    from .memory import case_solver_bytes
+
+    lines = []
+    support = 2.0 * case.smoothing_length
+    p = case.particles()
+    per = case_solver_bytes(case) / len(p)
+    for k, ob in enumerate(case.open_boundaries):
+        n_buf = int((p.zone == k).sum())
+        where = f"{'xy'[ob.axis]} = {ob.point[ob.axis]:g} m, normal {list(ob.normal)}"
+        head = f"  open boundary {ob.name}: {where}, buffer {n_buf} particles in {ob.buffer_layers(support, case.dp)} rows"
+        z = p.positions[p.zone == k, 2]
+        u = ob.speed(z, case.dim)
+        if u is None:
+            lines.append(head + "; velocity from the water inside (an outlet)")
+            continue
+        cells = n_buf / ob.buffer_layers(support, case.dp)  # particles in one row of the section
+        rate = float(np.mean(u)) * cells / case.dp  # particles a second through the plane
+        q = float(np.mean(u)) * ob.wet_area(case.dim)
+        unit = "m^2/s" if case.dim == 2 else "m^3/s"
+        more = rate * case.end_time
+        lines.append(head + f"; inflow {q:.4g} {unit} ({rate:.4g} particles/s): at most {more:,.0f} more particles "
+                            f"by t = {case.end_time:g} s, {more * per / 2**20:.3g} MiB more memory if none leaves")
+    return lines
+
+
 def check_case(case):
     """Lines describing `case`: particles, memory, time step, output size,
     checkpoint size. Raises `InputError` for what would stop the run: a
@@ -141,6 +170,7 @@ def check_case(case):
     if case.motions:
         lines.append("  motions: " + ", ".join(f"{m.name} ({m.type})" for m in case.motions))
     lines += floating_lines(case)
+    lines += open_boundary_lines(case)
     for i, zone in enumerate(case.relaxation):
         lines.append(f"  relaxation[{i}]: {zone.describe()}")
     from .advice import case_warnings

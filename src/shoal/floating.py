@@ -35,7 +35,7 @@ Inertia = Annotated[tuple[Vec3, Vec3, Vec3], BeforeValidator(_inertia_table)]
 
 
 class Hinge(Spec):
-    """A hinge to the ground: the body only rotates about `axis` through `point` [m] (world, fixed)."""
+    """A hinge to the ground: the body only rotates about ``axis`` through ``point`` [m] (world, fixed)."""
 
     point: Vec3
     axis: Vec3
@@ -143,7 +143,7 @@ class FloatingBody(Spec):
 
 class Fairlead(Spec):
     """Where a mooring line holds a floating body: the point of the body named `body` (a floating solid's
-    name) that is at `point` [m] at t = 0."""
+    name) that is at ``point`` [m] at t = 0."""
 
     body: Annotated[str, Field(min_length=1)]
     point: Vec3

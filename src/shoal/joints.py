@@ -1,6 +1,6 @@
 """Joints between two floating bodies: a pin (ball joint) or a hinge, held by a stiff spring-damper.
 
-A joint ties the point of body A and the point of body B that were both at `point` at t = 0. With
+A joint ties the point of body A and the point of body B that were both at ``point`` at t = 0. With
 x_A, x_B those body points now (`shoal.body_loads.body_point`), u_A, u_B their velocities,
 
     F = -k (x_A - x_B) - c (u_A - u_B)   on A at x_A,   -F on B at x_B,

@@ -44,7 +44,7 @@ def check_count(n_estimate, dim):
                          f"{mem / 2**30:.1f} GiB, enough for about {fit:.2g} particles: use a larger dp")
 
 
-def solver_bytes(n, dim, options, n_cells, moving=False, floating=False):
+def solver_bytes(n, dim, options, n_cells, moving=False, floating=False, open_boundaries=False):
     """Bytes the solver holds for `n` particles (what `Model.nbytes` counts
     once the integrator has allocated its state), in the options' precision.
 
@@ -59,7 +59,8 @@ def solver_bytes(n, dim, options, n_cells, moving=False, floating=False):
     [dim]; with moving bodies, their initial
     positions float64 [dim] and motion index (int32); with floating bodies,
     the per-particle fluid force [dim] and contact force (float64 [dim]) their
-    loads are summed from. Plus 4 bytes per grid cell.
+    loads are summed from; with open boundaries, each particle's zone tag and
+    flag (2 int8, `shoal.particle_buffers`). Plus 4 bytes per grid cell.
     """
     f = np.dtype(options.precision).itemsize
     per = 8 * dim + f * dim * 2 + f * 4 + 1 + 4
@@ -81,6 +82,8 @@ def solver_bytes(n, dim, options, n_cells, moving=False, floating=False):
         per += 8 * dim + 4
     if floating:
         per += f * dim + 8 * dim
+    if open_boundaries:
+        per += 2
     per += 8 * dim + f * dim + f + 4 + 1
     per += 12
     if options.integrator == "verlet":
@@ -166,7 +169,8 @@ def case_solver_bytes(case):
     """Bytes the solver will hold for `case` (generates its particles)."""
     p = case.particles()
     return solver_bytes(len(p), case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == MOVING)),
-                        floating=any(s.floating is not None for s in case.solids))
+                        floating=any(s.floating is not None for s in case.solids),
+                        open_boundaries=bool(case.open_boundaries))
 
 
 NODE_LIMIT = 4e9

@@ -74,8 +74,8 @@ class Model:
         Ghost vector of each dynamic boundary particle [m] (world x, y, z): from the particle to its
         mirror image across the wall surface (`shoal.geometry.normals`; zero rows elsewhere).
         Needed by ``wall_pressure = "mdbc"``, ignored otherwise.
-    planes : sequence of (point, normal)
-        Wall planes without particles (`shoal.physics.planes`): a point on
+    planes : sequence of pairs
+        Wall planes without particles (`shoal.physics.planes`), each (point, normal): a point on
         each [m] and its normal pointing into the fluid (world x, y, z).
     symmetry_y : (y, side), optional
         A symmetry plane y = const (3D): fluid on the low side (side = -1:
@@ -121,6 +121,8 @@ class Model:
     """The per-particle arrays every checkpoint saves (`checkpoint_arrays`); the integrator's are
     `extra_arrays`."""
 
+    buffers = None
+    """The open boundaries' `shoal.particle_buffers.BufferZones`, or None."""
     body_of = None
     """(n_ids,) int32: the solid (index in the case's `solids`) of each particle id, -1 for fluid; set by
     `shoal.build.build_model` (a Model built from bare arrays has none: no force gauges)."""
@@ -646,6 +648,8 @@ class Model:
         self.ghosts_spent()
         self._rates()
         self.clear_ghost_rates()
+        if self.buffers is not None:
+            self.buffers.hold(self)
         if self.floating:
             self.floating.measure(self)
 
@@ -928,7 +932,8 @@ class Model:
         order; `body_of` maps each particle id to its solid, -1 for fluid): the sum of `wall_forces`
         over its particles."""
         f, ids = self.wall_forces()
-        return np.asarray(self.reduce(f[self.body_of[ids] == body].sum(axis=0), "sum"), float)
+        walls = ids < len(self.body_of)  # ids from there on are fluid particles an open boundary made
+        return np.asarray(self.reduce(f[walls][self.body_of[ids[walls]] == body].sum(axis=0), "sum"), float)
 
     @property
     def particle_volume(self):

@@ -235,8 +235,11 @@ def _steps(case, out_dir, procs, model, point, backend, progress, plot, max_step
         counts = procs.count(model)
         procs.log_rebalances(log)
         if log is not None:
-            log.info("step %d t %.6g s dt %.4g s particles %d escaped %d", s.step_count, s.time, s.dt or 0.0,
-                     counts[1], counts[2])
+            opened = ""
+            if model.buffers is not None:
+                opened = f" created {model.buffers.created} removed {model.buffers.removed}"
+            log.info("step %d t %.6g s dt %.4g s particles %d escaped %d%s", s.step_count, s.time, s.dt or 0.0,
+                     counts[1], counts[2], opened)
 
     sim.add_callback(log_step, TimeInterval(case.output.interval, exact=False), name="log")
     if escaped_check is not None:

@@ -85,6 +85,9 @@ class Particles:
         repulsive boundary particles).
     body_names : list of str
         Name of each solid (indexed by `body`).
+    zone : (N,) int16 or None
+        Index of the open boundary whose buffer a fluid particle starts in (-1 for the others;
+        `shoal.open_boundary`), or None: the case has none.
     normals : (N, 3) float64 or None
         Ghost vectors [m] of the modified dynamic boundary condition (mDBC):
         from each dynamic wall particle to its mirror image across the wall
@@ -101,6 +104,7 @@ class Particles:
     spacing: np.ndarray
     body_names: list = field(default_factory=list)
     normals: np.ndarray | None = None
+    zone: np.ndarray | None = None
 
     def __len__(self):
         return len(self.positions)

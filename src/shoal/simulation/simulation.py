@@ -85,7 +85,7 @@ class Simulation:
         self.started = False  # the initial sort, check and t = 0 callbacks are done (or restored from a checkpoint)
         self.finalized_step = None  # the step `finalize` last ran at
         self.options = model.options
-        self.stages = default_stages(model.options, check_every)
+        self.stages = default_stages(model.options, check_every, open_boundaries=model.buffers is not None)
 
     def add_callback(self, func, schedule, name=None):
         """Attach ``func(sim)`` to run on `schedule`."""

@@ -21,7 +21,10 @@
    every ``mls_every`` steps the MLS filter, re-initialises the density
    (`Model.apply_filter`), and the integrator forgets its density history
    (Verlet's previous density) so the filtered field is not undone;
-5. `StabilityCheck`: every ``check_every`` steps the particles are checked
+5. `OpenBoundaryExchange` (only with open boundaries): the buffers' state imposed, particles
+   converted, created and removed (`shoal.particle_buffers.BufferZones.exchange`). After the
+   density filter, so that the buffers keep their imposed density;
+6. `StabilityCheck`: every ``check_every`` steps the particles are checked
    for NaN, a density outside its band or a particle gone wild
    (`Model.check`, `InstabilityError` naming where and why).
 
@@ -85,6 +88,15 @@ class DensityFilter:
         sim.integrator.reset_density_history()
 
 
+class OpenBoundaryExchange:
+    """The open boundaries' step (``sim.model.buffers``, `shoal.particle_buffers`)."""
+
+    name = "open boundaries"
+
+    def __call__(self, sim, dt):
+        sim.model.buffers.exchange()
+
+
 class StabilityCheck:
     """`Model.check` every `every` steps: the run stops with the step, the time and the reason."""
 
@@ -98,9 +110,11 @@ class StabilityCheck:
             sim.model.check(sim.step_count, sim.time)
 
 
-def default_stages(options, check_every=1):
+def default_stages(options, check_every=1, open_boundaries=False):
     """The stages of a step for `options`, in their order: damping, relaxation, shifting (when the options
-    ask for it: an option that is off adds no stage), density filter, stability check."""
+    ask for it: an option that is off adds no stage), density filter, the open boundaries' exchange (with
+    `open_boundaries`), stability check."""
     shifting = [Shifting()] if getattr(options, "shifting", "none") != "none" else []
+    exchange = [OpenBoundaryExchange()] if open_boundaries else []
     return [Damping(), Relaxation(), *shifting, DensityFilter(options.shepard_every, options.mls_every),
-            StabilityCheck(check_every)]
+            *exchange, StabilityCheck(check_every)]

@@ -1,0 +1,231 @@
+"""Open boundaries: planes where water enters or leaves the domain through a buffer of particles.
+
+An `OpenBoundary` is a plane section of the domain with a **buffer** behind it: `layers` rows of particles
+(at least the kernel support 2h deep) on the far side of the plane, outside the fluid domain, which the fluid
+near the plane sees as its neighbours, so that its kernel sums are complete there. The buffer's particles
+take part in every pair term as fluid, but their own state is imposed, not integrated
+(`shoal.particle_buffers.BufferZones`):
+
+* the **velocity**: `velocity` [m/s] along the normal (positive: into the domain), or a profile u(z)
+  (`profile`), or the `discharge` spread uniformly over the section below the `level`; without any of them
+  (an outlet) each particle keeps the velocity it had when it entered the buffer;
+* the **density**: hydrostatic below the `level` (``density = "hydrostatic"``, p = rho0 g (level - z)
+  through the equation of state) or, without a level, each particle keeps the density it entered with
+  (``density = "kept"``).
+
+Each step (as DualSPHysics's inlet/outlet zones, Tafuni et al. 2018): a buffer particle that crosses the plane
+into the domain becomes fluid and a new buffer particle is created `layers` dp behind it (the buffer refills
+from its back); a fluid particle that crosses the plane out of the domain becomes a buffer particle; a
+buffer particle that leaves the buffer's far end is removed. The same boundary is an inlet where its velocity
+points in and an outlet where the water leaves. New particles get new ids (never reused); the arrays grow
+without a restart (`shoal.particle_store.ParticleStore`).
+
+In a case file::
+
+    [[open_boundaries]]
+    name = "inlet"
+    point = [0.0, 0.0, 0.0]        # on the plane
+    normal = [1.0, 0.0, 0.0]       # into the domain (along x or y)
+    lo = [0.0, 0.0, 0.0]           # the section: the plane's part between lo and hi
+    hi = [0.0, 0.0, 0.3]           #   (their components along the normal are ignored)
+    velocity = 0.2                 # m/s into the domain
+    level = 0.2                    # the water's surface there [m]: the buffer is filled below it
+
+References
+----------
+A. Tafuni, J. M. Dominguez, R. Vacondio, A. J. C. Crespo, "A versatile algorithm for the treatment of open
+boundary conditions in smoothed particle hydrodynamics GPU models", Comput. Methods Appl. Mech. Engrg. 342
+(2018) 604-624.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from .geometry.shapes import Real, Spec, Vec3
+
+
+class VelocityProfile(Spec):
+    """u(z): the velocity along the boundary's normal [m/s] at heights `z` [m], linear between them and held
+    beyond the ends (a log or power law tabulated, a measured profile)."""
+
+    z: Annotated[list[Real], Field(min_length=2)]
+    u: Annotated[list[Real], Field(min_length=2)]
+
+    @model_validator(mode="after")
+    def _table(self):
+        if len(self.z) != len(self.u):
+            raise ValueError(f"z has {len(self.z)} values and u {len(self.u)}: give one u per z")
+        if any(b <= a for a, b in zip(self.z, self.z[1:])):
+            raise ValueError("z must increase from one value to the next")
+        return self
+
+
+class OpenBoundary(Spec):
+    """An inflow or outflow plane with its buffer (module docstring).
+
+    Attributes
+    ----------
+    name : str
+    point : 3 floats
+        A point of the plane [m]; the plane must lie on the particle lattice (lattice_origin + k dp along the
+        normal), so that the buffer's lattice continues the fluid's.
+    normal : 3 floats
+        Into the domain: along x or y (2D: x).
+    lo, hi : 3 floats
+        The section: the part of the plane between them (the components along the normal are ignored) [m].
+    layers : int, optional
+        Rows of buffer particles; default: enough to cover the kernel support 2h.
+    velocity : float, optional
+        Speed along the normal [m/s], positive into the domain.
+    profile : VelocityProfile, optional
+        u(z) along the normal instead of one speed.
+    discharge : float, optional
+        Q [m^3/s; 2D: m^2/s] into the domain, spread uniformly over the wet section (below `level`).
+    level : float, optional
+        Height of the water's surface at the boundary [m]: the buffer holds particles below it and its density
+        is hydrostatic from it. Without it the whole section is wet (a submerged boundary).
+    density : {"hydrostatic", "kept"}
+        Default: "hydrostatic" with a level, "kept" without.
+    """
+
+    name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")] = "open"
+    point: Vec3
+    normal: Vec3
+    lo: Vec3
+    hi: Vec3
+    layers: Annotated[int, Field(ge=1, le=20, strict=True)] | None = None
+    velocity: Real | None = None
+    profile: VelocityProfile | None = None
+    discharge: Real | None = None
+    level: Real | None = None
+    density: Literal["hydrostatic", "kept"] | None = None
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        n = np.asarray(self.normal, float)
+        axes = [a for a in range(3) if n[a] != 0.0]
+        if len(axes) != 1 or axes[0] == 2:
+            raise ValueError(f"normal = {list(self.normal)}: an open boundary's normal runs along x or y (e.g. "
+                             "[1, 0, 0] for an inlet at the upstream end of a flume along x)")
+        given = [k for k in ("velocity", "profile", "discharge") if getattr(self, k) is not None]
+        if len(given) > 1:
+            raise ValueError(f"{' and '.join(given)} given: impose one of velocity, profile or discharge (or none, "
+                             "for an outlet)")
+        if self.discharge is not None and self.level is None:
+            raise ValueError("a discharge needs the level of the water at the boundary (level = ...), over "
+                             "which it is spread")
+        if self.density == "hydrostatic" and self.level is None:
+            raise ValueError('density = "hydrostatic" needs the level of the water at the boundary (level = ...)')
+        return self
+
+    # ------------------------------------------------------------- geometry
+    @property
+    def axis(self):
+        """Index of the normal's axis (0: x, 1: y)."""
+        return int(np.flatnonzero(np.asarray(self.normal, float))[0])
+
+    @property
+    def sign(self):
+        """+1 when the normal points along +axis, -1 along -axis."""
+        return 1.0 if self.normal[self.axis] > 0 else -1.0
+
+    @property
+    def density_mode(self):
+        """The density treatment: `density`, or its default."""
+        return self.density or ("hydrostatic" if self.level is not None else "kept")
+
+    def buffer_layers(self, support, dp):
+        """`layers`, or the rows that cover the kernel support `support` [m] (at least 2)."""
+        return self.layers if self.layers is not None else max(int(math.ceil(support / dp - 1e-9)), 2)
+
+    def section_box(self, dim):
+        """(lo, hi) of the section in world coordinates, the normal's components set to -inf, inf, and in 2D
+        y to -inf, inf (3 floats each)."""
+        lo = np.minimum(self.lo, self.hi).astype(float)
+        hi = np.maximum(self.lo, self.hi).astype(float)
+        lo[self.axis], hi[self.axis] = -math.inf, math.inf
+        if dim == 2:
+            lo[1], hi[1] = -math.inf, math.inf
+        return lo, hi
+
+    def wet_top(self, dim):
+        """The top of the wet section [m]: the level, or the section's top."""
+        top = max(self.lo[2], self.hi[2])
+        return min(top, self.level) if self.level is not None else top
+
+    def speed(self, z, dim):
+        """The imposed speed along the normal [m/s] at heights `z` (array), or None (not imposed)."""
+        z = np.asarray(z, float)
+        if self.velocity is not None:
+            return np.full(z.shape, float(self.velocity))
+        if self.profile is not None:
+            return np.interp(z, self.profile.z, self.profile.u)
+        if self.discharge is not None:
+            return np.full(z.shape, float(self.discharge) / self.wet_area(dim))
+        return None
+
+    def wet_area(self, dim):
+        """Area of the section below the level [m^2; 2D: m]."""
+        lo, hi = np.minimum(self.lo, self.hi), np.maximum(self.lo, self.hi)
+        height = self.wet_top(dim) - lo[2]
+        if dim == 2:
+            return height
+        t = 1 - self.axis  # the horizontal tangent
+        return height * (hi[t] - lo[t])
+
+    def buffer_lattice(self, dim, dp, origin, support):
+        """The buffer's particles at the start: lattice nodes origin + (i + 1/2) dp behind the plane, `layers`
+        rows deep, inside the section and below the level.
+
+        Returns
+        -------
+        (M, 3) float64 array
+            World positions [m] (y = 0 in 2D).
+
+        Raises
+        ------
+        ValueError
+            The plane is not on the lattice, or the section holds no lattice node.
+        """
+        a, s = self.axis, self.sign
+        rows = self.buffer_layers(support, dp)
+        k = (self.point[a] - origin[a]) / dp
+        if abs(k - round(k)) > 1e-6:
+            raise ValueError(f"open boundary {self.name!r}: its plane {'xy'[a]} = {self.point[a]:g} m is not on the "
+                             f"particle lattice (lattice_origin + k dp, dp = {dp:g} m); move it to "
+                             f"{origin[a] + round(k) * dp:.6g} m")
+        x0 = origin[a] + round(k) * dp
+        normal_coords = x0 - s * (np.arange(rows) + 0.5) * dp
+        lo, hi = np.minimum(self.lo, self.hi), np.maximum(self.lo, self.hi)
+        axes = [0, 1, 2] if dim == 3 else [0, 2]
+        coords = []
+        for b in axes:
+            if b == a:
+                coords.append(normal_coords)
+                continue
+            top = self.wet_top(dim) if b == 2 else hi[b]
+            i0 = math.ceil((lo[b] - origin[b]) / dp - 0.5 - 1e-9)
+            i1 = math.floor((top - origin[b]) / dp - 0.5 - 1e-9)
+            coords.append(origin[b] + (np.arange(i0, i1 + 1) + 0.5) * dp)
+        grids = np.meshgrid(*coords, indexing="ij")
+        pts = np.zeros((grids[0].size, 3))
+        for g, b in zip(grids, axes):
+            pts[:, b] = g.ravel()
+        if not len(pts):
+            raise ValueError(f"open boundary {self.name!r}: its section between lo and hi (below the level) holds "
+                             f"no particle of the lattice at dp = {dp:g} m")
+        return pts
+
+
+def plane_coordinate(zone, dp, origin):
+    """The plane's coordinate along its normal's axis, snapped to the lattice [m]."""
+    a = zone.axis
+    return origin[a] + round((zone.point[a] - origin[a]) / dp) * dp
+
+
+__all__ = ["OpenBoundary", "VelocityProfile", "plane_coordinate"]

@@ -1,0 +1,386 @@
+"""`BufferZones`: the particles of a model's open boundaries, created, converted and removed each step.
+
+Each particle carries a zone tag (``zone``, int8, a per-particle array that follows the sort): 0 for every
+particle of the domain, k + 1 for a particle of the buffer of open boundary k (`shoal.open_boundary`). Buffer
+particles are fluid particles to every kernel; what makes them a buffer:
+
+* their rates are held at zero (`hold`, after each rate evaluation): the integrator moves them at their
+  velocity and keeps their density, which `exchange` imposes;
+* `exchange` (a stage of every step, after the integrator; `shoal.simulation.stages.OpenBoundaryExchange`):
+
+  1. imposes the buffers' state: the velocity along the normal where the boundary imposes one (its
+     tangential part zero), the hydrostatic density rho(p = rho0 g (level - z)) where it has a level;
+  2. a buffer particle now on the domain's side of its plane becomes fluid of the domain, and a copy of it
+     is created `layers` dp further back, in the buffer (the buffer refills from its back end); a particle of
+     the domain now behind an open boundary's plane (within its section) joins that buffer; a buffer particle
+     past the buffer's far end is removed;
+  3. the new particles are appended (the arrays grow when needed, `ParticleStore.ensure`), each with a new
+     id (ids are never reused: `next_id`), and the removed rows are filled from the end (`_move_rows`).
+
+The rows change order; the next sort puts them back in cell order. A one-process CPU run does this in place
+on its arrays; the particles removed are counted (`removed`), not recorded as escaped.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .physics.spec import FLUID
+
+GAMMA = 7.0
+
+
+@njit(cache=True)
+def _hold(n, zone, ace, drho, xsph, has_xsph):
+    """Zero the rates of the buffer rows (zone > 0)."""
+    dim = ace.shape[1]
+    for i in range(n):
+        if zone[i] > 0:
+            for d in range(dim):
+                ace[i, d] = 0.0
+                if has_xsph:
+                    xsph[i, d] = 0.0
+            drho[i] = 0.0
+
+
+@njit(cache=True)
+def _impose(n, pos, vel, rho, zone, axis, sign, imposed, pz, pu, pm, hydro, level, rho0, g, B):
+    """Velocity and density of the buffer rows (module docstring, 1)."""
+    dim = pos.shape[1]
+    for i in range(n):
+        t = zone[i]
+        if t <= 0:
+            continue
+        k = t - 1
+        z = pos[i, dim - 1]
+        if imposed[k]:
+            m = pm[k]
+            if z <= pz[k, 0]:
+                u = pu[k, 0]
+            elif z >= pz[k, m - 1]:
+                u = pu[k, m - 1]
+            else:
+                j = 1
+                while pz[k, j] < z:
+                    j += 1
+                f = (z - pz[k, j - 1]) / (pz[k, j] - pz[k, j - 1])
+                u = pu[k, j - 1] + f * (pu[k, j] - pu[k, j - 1])
+            for d in range(dim):
+                vel[i, d] = 0.0
+            vel[i, axis[k]] = sign[k] * u
+        if hydro[k]:
+            p = rho0 * g * max(level[k] - z, 0.0)
+            rho[i] = rho0 * (1.0 + p / B) ** (1.0 / 7.0)
+
+
+@njit(cache=True)
+def _extrapolate(n, pos, vel, kind, zone, axis, x0, imposed, cell_start, gdims, glo, inv_cs, ncs, h):
+    """The velocity of the buffer rows of the boundaries that impose none: the Shepard average of the domain's
+    fluid velocities (zone 0) around the particle's mirror image across the plane, x_g = x + 2 |d| n, with the
+    Wendland shape (1 - q/2)^4 (2 q + 1), q = |x_g - x_j| / h (the normalisation cancels)."""
+    dim = pos.shape[1]
+    nx, ny, nz = gdims[0], gdims[1], gdims[2]
+    supp2 = 4.0 * h * h
+    for i in range(n):
+        t = zone[i]
+        if t <= 0 or imposed[t - 1]:
+            continue
+        k = t - 1
+        gx = pos[i, 0]
+        gy = pos[i, 1] if dim == 3 else 0.0
+        gz = pos[i, dim - 1]
+        if axis[k] == 0:
+            gx = 2.0 * x0[k] - gx
+        else:
+            gy = 2.0 * x0[k] - gy
+        ix = int((gx - glo[0]) * inv_cs)
+        if dim == 3:
+            iy = int((gy - glo[1]) * inv_cs)
+            iz = int((gz - glo[2]) * inv_cs)
+        else:
+            iy = 0
+            iz = int((gz - glo[1]) * inv_cs)
+        s = 0.0
+        ux = 0.0
+        uy = 0.0
+        uz = 0.0
+        for zz in range(max(iz - ncs, 0), min(iz + ncs, nz - 1) + 1):
+            for yy in range(max(iy - ncs, 0), min(iy + ncs, ny - 1) + 1):
+                row = nx * (yy + ny * zz)
+                x_lo = max(ix - ncs, 0)
+                x_hi = min(ix + ncs, nx - 1)
+                if x_lo > x_hi:
+                    continue
+                for j in range(cell_start[row + x_lo], cell_start[row + x_hi + 1]):
+                    if kind[j] != FLUID or zone[j] != 0:
+                        continue
+                    dx = gx - pos[j, 0]
+                    dz = gz - pos[j, dim - 1]
+                    dy = gy - pos[j, 1] if dim == 3 else 0.0
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 >= supp2:
+                        continue
+                    q = math.sqrt(r2) / h
+                    w = (1.0 - 0.5 * q) ** 4 * (2.0 * q + 1.0)
+                    s += w
+                    ux += w * vel[j, 0]
+                    uz += w * vel[j, dim - 1]
+                    if dim == 3:
+                        uy += w * vel[j, 1]
+        if s > 0.0:
+            vel[i, 0] = ux / s
+            vel[i, dim - 1] = uz / s
+            if dim == 3:
+                vel[i, 1] = uy / s
+
+
+@njit(cache=True)
+def _classify(n, pos, kind, zone, axis, sign, x0, depth, tlo, thi, flags, spawn_src, spawn_zone):
+    """Tag changes and the rows to remove or copy (module docstring, 2). Returns (spawns, removals), or
+    (-1, 0) when `spawn_src` is too short (call again with a longer one)."""
+    dim = pos.shape[1]
+    nz = axis.shape[0]
+    s = 0
+    r = 0
+    for i in range(n):
+        flags[i] = 0
+        t = zone[i]
+        if t > 0:
+            k = t - 1
+            d = sign[k] * (pos[i, axis[k]] - x0[k])
+            if d >= 0.0:
+                zone[i] = 0
+                if s >= spawn_src.shape[0]:
+                    return -1, 0
+                spawn_src[s] = i
+                spawn_zone[s] = k
+                s += 1
+            elif d < -depth[k]:
+                flags[i] = 1
+                r += 1
+        elif kind[i] == FLUID:
+            for k in range(nz):
+                d = sign[k] * (pos[i, axis[k]] - x0[k])
+                if d >= 0.0:
+                    continue
+                inside = True
+                for c in range(dim):
+                    if c != axis[k] and (pos[i, c] < tlo[k, c] or pos[i, c] >= thi[k, c]):
+                        inside = False
+                if not inside:
+                    continue
+                if d >= -depth[k]:
+                    zone[i] = k + 1
+                else:
+                    flags[i] = 1
+                    r += 1
+                break
+    return s, r
+
+
+@njit(cache=True)
+def _copy_rows_2d(a, src, dst0, count):
+    for j in range(count):
+        for c in range(a.shape[1]):
+            a[dst0 + j, c] = a[src[j], c]
+
+
+@njit(cache=True)
+def _copy_rows_1d(a, src, dst0, count):
+    for j in range(count):
+        a[dst0 + j] = a[src[j]]
+
+
+@njit(cache=True)
+def _place_spawns(pos, zone, idp, src, kz, dst0, count, axis, sign, depth, first_id):
+    """The copies `count` rows from `dst0` on: moved `depth` back along their zone's normal, tagged and
+    numbered."""
+    for j in range(count):
+        i = dst0 + j
+        k = kz[j]
+        pos[i, axis[k]] -= sign[k] * depth[k]
+        zone[i] = k + 1
+        idp[i] = first_id + j
+
+
+@njit(cache=True)
+def _holes(n, flags, holes, fillers):
+    """Rows to fill (flagged, below n - removed) and the kept rows above that fill them, in order.
+    Returns their count."""
+    r = 0
+    for i in range(n):
+        if flags[i] != 0:
+            r += 1
+    keep_n = n - r
+    h = 0
+    for i in range(keep_n):
+        if flags[i] != 0:
+            holes[h] = i
+            h += 1
+    f = 0
+    for i in range(keep_n, n):
+        if flags[i] == 0:
+            fillers[f] = i
+            f += 1
+    return h
+
+
+@njit(cache=True)
+def _move_rows_2d(a, holes, fillers, count):
+    for j in range(count):
+        for c in range(a.shape[1]):
+            a[holes[j], c] = a[fillers[j], c]
+
+
+@njit(cache=True)
+def _move_rows_1d(a, holes, fillers, count):
+    for j in range(count):
+        a[holes[j]] = a[fillers[j]]
+
+
+class BufferZones:
+    """The open boundaries of a model at run time (module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        A one-process model on the CPU backend; its rows `buffer_rows` (its initial order: row = id) are
+        the buffers' particles at the start.
+    zones : list of shoal.open_boundary.OpenBoundary
+    buffer_zone : (N,) int array
+        For each of the model's particles at the start, the index of its open boundary, -1 for the others.
+    origin : 3 floats
+        The particle lattice's origin [m] (`Case.lattice_origin`).
+    surface_gravity : float
+        |g| [m/s^2] for the hydrostatic density.
+    """
+
+    def __init__(self, model, zones, buffer_zone, origin, surface_gravity):
+        from .errors import InputError
+        from .open_boundary import plane_coordinate
+
+        if not model.backend.host_memory:
+            raise InputError("open boundaries run on the CPU backend for now; use --backend cpu")
+        if model.n != model.n_total:
+            raise InputError("open boundaries need a model with all its particles active")
+        self.model = model
+        self.zones = list(zones)
+        dim = model.dim
+        cols = [0, 1, 2] if dim == 3 else [0, 2]
+        internal = {c: k for k, c in enumerate(cols)}
+        Z = len(self.zones)
+        support = 2.0 * model.h
+        self.axis = np.array([internal[z.axis] for z in self.zones], np.int64)
+        self.sign = np.array([z.sign for z in self.zones], np.float64)
+        self.x0 = np.array([plane_coordinate(z, model.dp, origin) for z in self.zones], np.float64)
+        self.layers = np.array([z.buffer_layers(support, model.dp) for z in self.zones], np.int64)
+        self.depth = self.layers * model.dp
+        self.tlo = np.full((Z, dim), -math.inf)
+        self.thi = np.full((Z, dim), math.inf)
+        for k, z in enumerate(self.zones):
+            lo, hi = z.section_box(dim)
+            self.tlo[k] = lo[cols]
+            self.thi[k] = hi[cols]
+        M = max([2] + [len(z.profile.z) for z in self.zones if z.profile is not None])
+        self.pz = np.zeros((Z, M))
+        self.pu = np.zeros((Z, M))
+        self.pm = np.ones(Z, np.int64)
+        self.imposed = np.zeros(Z, np.bool_)
+        for k, z in enumerate(self.zones):
+            if z.profile is not None:
+                m = len(z.profile.z)
+                self.pz[k, :m], self.pu[k, :m], self.pm[k] = z.profile.z, z.profile.u, m
+                self.imposed[k] = True
+            else:
+                u = z.speed(np.zeros(1), dim)
+                if u is not None:
+                    self.pu[k, 0] = u[0]
+                    self.imposed[k] = True
+        self.hydro = np.array([z.density_mode == "hydrostatic" for z in self.zones], np.bool_)
+        self.level = np.array([z.level if z.level is not None else math.inf for z in self.zones], np.float64)
+        self.g = float(surface_gravity)
+        self.zone = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
+        self.flags = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
+        self.zone[:] = 0
+        rows = np.flatnonzero(np.asarray(buffer_zone) >= 0)
+        self.zone[rows] = np.asarray(buffer_zone)[rows] + 1
+        self.next_id = int(model.n_total)
+        """The id the next particle created gets."""
+        self.created = 0
+        """Particles created so far."""
+        self.removed = 0
+        """Particles removed so far (past a buffer's far end)."""
+        self._spawn_src = np.zeros(max(64, len(rows)), np.int64)
+        self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
+        self._holes = np.zeros(len(self._spawn_src), np.int64)
+        self._fillers = np.zeros(len(self._spawn_src), np.int64)
+
+    def __len__(self):
+        return len(self.zones)
+
+    # ----------------------------------------------------------------- rates
+    def hold(self, model):
+        """Zero the buffer rows' rates (after each rate evaluation)."""
+        xsph = model.xsph
+        _hold(model.n, self.zone, model.ace, model.drho, xsph, bool(model.spec.xsph))
+
+    # --------------------------------------------------------------- the step
+    def exchange(self):
+        """Impose the buffers' state, convert, create and remove particles (module docstring)."""
+        m = self.model
+        gr = m.grid
+        _extrapolate(m.n, m.pos, m.vel, m.kind, self.zone, self.axis, self.x0, self.imposed, gr.cell_start,
+                     gr.gdims_arr, gr.lo, 1.0 / gr.cell_size, int(m.options.cells_per_support), m.h)
+        _impose(m.n, m.pos, m.vel, m.rho, self.zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
+                self.hydro, self.level, m.rho0, self.g, m.B)
+        n = m.n
+        while True:
+            s, r = _classify(n, m.pos, m.kind, self.zone, self.axis, self.sign, self.x0, self.depth, self.tlo,
+                             self.thi, self.flags, self._spawn_src, self._spawn_zone)
+            if s >= 0:
+                break
+            self._spawn_src = np.zeros(2 * len(self._spawn_src), np.int64)  # rare: more crossings than room
+            self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
+        if s:
+            m.store.ensure(n + s)
+            arrays = self._arrays()
+            for a in arrays:
+                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(a, self._spawn_src, n, s)
+            _place_spawns(m.pos, self.zone, m.idp, self._spawn_src, self._spawn_zone, n, s, self.axis, self.sign,
+                          self.depth, self.next_id)
+            # a copy's flag is its source's: 0 (a source became fluid this step, it is not removed)
+            self.next_id += s
+            self.created += s
+            n += s
+        if r:
+            if len(self._holes) < r:
+                self._holes = np.zeros(2 * r, np.int64)
+                self._fillers = np.zeros(2 * r, np.int64)
+            h = _holes(n, self.flags, self._holes, self._fillers)
+            for a in self._arrays():
+                (_move_rows_2d if a.ndim == 2 else _move_rows_1d)(a, self._holes, self._fillers, h)
+            n -= r
+            self.removed += r
+        m.n = n
+        m.n_total = n
+        return s, r
+
+    def _arrays(self):
+        """Every per-particle array once (the zone tags and flags among them)."""
+        seen, out = set(), []
+        for a in self.model.per_particle_arrays():
+            if id(a) not in seen:
+                seen.add(id(a))
+                out.append(a)
+        return out
+
+    # ---------------------------------------------------------------- counts
+    def counts(self):
+        """(fluid particles of the domain, buffer particles) now."""
+        m = self.model
+        z = self.zone[:m.n]
+        fluid = m.kind[:m.n] == FLUID
+        return int(np.count_nonzero(fluid & (z == 0))), int(np.count_nonzero(z > 0))
