@@ -19,7 +19,7 @@ DEPTH, LENGTH = 0.2, 2.0
 SECTIONS = (0.5, 1.0, 1.5)
 
 
-def channel(dp=0.02, speed=0.2, end_time=4.0, length=LENGTH, **inlet):
+def channel(dp=0.02, speed=0.2, end_time=4.0, length=LENGTH, output=None, **inlet):
     """A 2D channel `length` long with water DEPTH deep flowing at `speed` over a free-slip bed (Adami walls, no
     viscosity at the wall) from an inlet at x = 0 (imposed velocity and level) to an outlet at x = `length`
     (velocity from the water inside, hydrostatic density from the level)."""
@@ -33,7 +33,7 @@ def channel(dp=0.02, speed=0.2, end_time=4.0, length=LENGTH, **inlet):
                                  level=DEPTH, **ib),
                     OpenBoundary(name="out", point=(length, 0, 0), normal=(-1, 0, 0), lo=(length, 0, 0),
                                  hi=(length, 0, 2 * DEPTH), level=DEPTH)],
-                output=Output(interval=end_time))
+                output=Output(interval=output or end_time))
 
 
 def test_buffer_lattice_continues_the_fluid_behind_the_plane():
@@ -184,14 +184,22 @@ def test_shoal_check_reports_the_inflow_and_the_growth():
            "water inside" in text
 
 
-def test_a_run_with_open_boundaries_is_not_resumed_but_refused(tmp_path):
-    """Resuming needs the changing particle count in the checkpoint (not yet): refused in one line, the run's
-    files left as they are."""
+def test_stop_and_resume_while_particles_are_created_is_bitwise(tmp_path):
+    """Issue 33, must-show 6 (CPU): the channel run to 0.06 s in one go, and to 0.03 s then resumed from its
+    checkpoint to 0.06 s, while the inlet creates and the outlet removes particles (the count and the arrays'
+    rows change between the two halves): the same particles (ids), positions, velocities and densities, bit
+    for bit, and the same counts of created and removed particles."""
     import shoal
 
-    case = channel(end_time=0.02, length=1.0)
-    shoal.run_case(case, tmp_path / "run", plot=False, progress=False)
-    before = sorted(p.name for p in (tmp_path / "run").iterdir())
-    with pytest.raises(InputError, match="open boundaries, whose runs cannot be resumed yet"):
-        shoal.resume_run(tmp_path / "run", end_time=0.04)
-    assert sorted(p.name for p in (tmp_path / "run").iterdir()) == before
+    full = shoal.run_case(channel(end_time=0.06, length=1.0, output=0.01), tmp_path / "full", plot=False,
+                          progress=False)
+    shoal.run_case(channel(end_time=0.03, length=1.0, output=0.01), tmp_path / "half", plot=False, progress=False)
+    resumed = shoal.resume_run(tmp_path / "half", end_time=0.06, plot=False, progress=False)
+    a, b = full.model, resumed.model
+    assert a.buffers.created > 0 and a.buffers.removed > 0
+    assert (a.buffers.created, a.buffers.removed, a.buffers.next_id, a.n) == \
+        (b.buffers.created, b.buffers.removed, b.buffers.next_id, b.n)
+    assert full.steps == resumed.steps
+    for name in ("idp", "pos", "vel", "rho", "kind"):
+        assert np.array_equal(a.host(getattr(a, name)), b.host(getattr(b, name))), name
+    assert np.array_equal(a.buffers.zone[:a.n], b.buffers.zone[:b.n])

@@ -8,10 +8,11 @@ take part in every pair term as fluid, but their own state is imposed, not integ
 
 * the **velocity**: `velocity` [m/s] along the normal (positive: into the domain), or a profile u(z)
   (`profile`), or the `discharge` spread uniformly over the section below the `level`; without any of them
-  (an outlet) each particle keeps the velocity it had when it entered the buffer;
+  (an outlet) the velocity of the water at the particle's mirror image across the plane;
 * the **density**: hydrostatic below the `level` (``density = "hydrostatic"``, p = rho0 g (level - z)
-  through the equation of state) or, without a level, each particle keeps the density it entered with
-  (``density = "kept"``).
+  through the equation of state; the default with a level), the density of the water at the particle's
+  mirror image inside (``"extrapolated"``, the default without a level), or that of a fixed `pressure`
+  (``"fixed"``).
 
 Each step (as DualSPHysics's inlet/outlet zones, Tafuni et al. 2018): a buffer particle that crosses the plane
 into the domain becomes fluid and a new buffer particle is created `layers` dp behind it (the buffer refills
@@ -89,8 +90,11 @@ class OpenBoundary(Spec):
     level : float, optional
         Height of the water's surface at the boundary [m]: the buffer holds particles below it and its density
         is hydrostatic from it. Without it the whole section is wet (a submerged boundary).
-    density : {"hydrostatic", "kept"}
-        Default: "hydrostatic" with a level, "kept" without.
+    density : {"hydrostatic", "extrapolated", "fixed"}
+        Default: "hydrostatic" with a level, "fixed" with a `pressure`, else "extrapolated".
+    pressure : float, optional
+        The buffer's pressure [Pa] with ``density = "fixed"`` (e.g. 0 at the outlet of a pressure-driven
+        channel).
     """
 
     name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")] = "open"
@@ -103,7 +107,8 @@ class OpenBoundary(Spec):
     profile: VelocityProfile | None = None
     discharge: Real | None = None
     level: Real | None = None
-    density: Literal["hydrostatic", "kept"] | None = None
+    density: Literal["hydrostatic", "extrapolated", "fixed"] | None = None
+    pressure: Real | None = None
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -121,6 +126,11 @@ class OpenBoundary(Spec):
                              "which it is spread")
         if self.density == "hydrostatic" and self.level is None:
             raise ValueError('density = "hydrostatic" needs the level of the water at the boundary (level = ...)')
+        if self.density == "fixed" and self.pressure is None:
+            raise ValueError('density = "fixed" needs the pressure to hold (pressure = ... Pa)')
+        if self.pressure is not None and self.density not in (None, "fixed"):
+            raise ValueError(f'pressure = {self.pressure:g} Pa with density = "{self.density}": a pressure is held '
+                             'with density = "fixed" (or no density given)')
         return self
 
     # ------------------------------------------------------------- geometry
@@ -137,7 +147,11 @@ class OpenBoundary(Spec):
     @property
     def density_mode(self):
         """The density treatment: `density`, or its default."""
-        return self.density or ("hydrostatic" if self.level is not None else "kept")
+        if self.density is not None:
+            return self.density
+        if self.pressure is not None:
+            return "fixed"
+        return "hydrostatic" if self.level is not None else "extrapolated"
 
     def buffer_layers(self, support, dp):
         """`layers`, or the rows that cover the kernel support `support` [m] (at least 2)."""

@@ -9,7 +9,9 @@ particles are fluid particles to every kernel; what makes them a buffer:
 * `exchange` (a stage of every step, after the integrator; `shoal.simulation.stages.OpenBoundaryExchange`):
 
   1. imposes the buffers' state: the velocity along the normal where the boundary imposes one (its
-     tangential part zero), the hydrostatic density rho(p = rho0 g (level - z)) where it has a level;
+     tangential part zero), else the water's at the particle's mirror image across the plane (`_extrapolate`);
+     the density of the hydrostatic pressure rho0 g (level - z), of a fixed pressure, or the water's at the
+     mirror image;
   2. a buffer particle now on the domain's side of its plane becomes fluid of the domain, and a copy of it
      is created `layers` dp further back, in the buffer (the buffer refills from its back end); a particle of
      the domain now behind an open boundary's plane (within its section) joins that buffer; a buffer particle
@@ -18,7 +20,9 @@ particles are fluid particles to every kernel; what makes them a buffer:
      id (ids are never reused: `next_id`), and the removed rows are filled from the end (`_move_rows`).
 
 The rows change order; the next sort puts them back in cell order. A one-process CPU run does this in place
-on its arrays; the particles removed are counted (`removed`), not recorded as escaped.
+on its arrays; the particles removed are counted (`removed`), not recorded as escaped. The zone tags are
+among the model's arrays and `next_id`, `created`, `removed` in its checkpoints (`checkpoint_state`): a run
+resumes bit for bit.
 """
 
 from __future__ import annotations
@@ -47,7 +51,7 @@ def _hold(n, zone, ace, drho, xsph, has_xsph):
 
 
 @njit(cache=True)
-def _impose(n, pos, vel, rho, zone, axis, sign, imposed, pz, pu, pm, hydro, level, rho0, g, B):
+def _impose(n, pos, vel, rho, zone, axis, sign, imposed, pz, pu, pm, hydro, level, fixed, p_fixed, rho0, g, B):
     """Velocity and density of the buffer rows (module docstring, 1)."""
     dim = pos.shape[1]
     for i in range(n):
@@ -74,19 +78,24 @@ def _impose(n, pos, vel, rho, zone, axis, sign, imposed, pz, pu, pm, hydro, leve
         if hydro[k]:
             p = rho0 * g * max(level[k] - z, 0.0)
             rho[i] = rho0 * (1.0 + p / B) ** (1.0 / 7.0)
+        elif fixed[k]:
+            rho[i] = rho0 * (1.0 + p_fixed[k] / B) ** (1.0 / 7.0)
 
 
 @njit(cache=True)
-def _extrapolate(n, pos, vel, kind, zone, axis, x0, imposed, cell_start, gdims, glo, inv_cs, ncs, h):
-    """The velocity of the buffer rows of the boundaries that impose none: the Shepard average of the domain's
-    fluid velocities (zone 0) around the particle's mirror image across the plane, x_g = x + 2 |d| n, with the
-    Wendland shape (1 - q/2)^4 (2 q + 1), q = |x_g - x_j| / h (the normalisation cancels)."""
+def _extrapolate(n, pos, vel, rho, kind, zone, axis, x0, imposed, rho_extra, cell_start, gdims, glo, inv_cs, ncs,
+                 h):
+    """The velocity of the buffer rows of the boundaries that impose none, and the density of those whose
+    density is extrapolated: Shepard averages of the domain's fluid (zone 0) around the particle's mirror image
+    across the plane, x_g = x + 2 |d| n (at the particle's height: the planes are vertical, so no hydrostatic
+    correction), with the Wendland shape (1 - q/2)^4 (2 q + 1), q = |x_g - x_j| / h (the normalisation
+    cancels)."""
     dim = pos.shape[1]
     nx, ny, nz = gdims[0], gdims[1], gdims[2]
     supp2 = 4.0 * h * h
     for i in range(n):
         t = zone[i]
-        if t <= 0 or imposed[t - 1]:
+        if t <= 0 or (imposed[t - 1] and not rho_extra[t - 1]):
             continue
         k = t - 1
         gx = pos[i, 0]
@@ -107,6 +116,7 @@ def _extrapolate(n, pos, vel, kind, zone, axis, x0, imposed, cell_start, gdims, 
         ux = 0.0
         uy = 0.0
         uz = 0.0
+        sr = 0.0
         for zz in range(max(iz - ncs, 0), min(iz + ncs, nz - 1) + 1):
             for yy in range(max(iy - ncs, 0), min(iy + ncs, ny - 1) + 1):
                 row = nx * (yy + ny * zz)
@@ -126,15 +136,19 @@ def _extrapolate(n, pos, vel, kind, zone, axis, x0, imposed, cell_start, gdims, 
                     q = math.sqrt(r2) / h
                     w = (1.0 - 0.5 * q) ** 4 * (2.0 * q + 1.0)
                     s += w
+                    sr += w * rho[j]
                     ux += w * vel[j, 0]
                     uz += w * vel[j, dim - 1]
                     if dim == 3:
                         uy += w * vel[j, 1]
         if s > 0.0:
-            vel[i, 0] = ux / s
-            vel[i, dim - 1] = uz / s
-            if dim == 3:
-                vel[i, 1] = uy / s
+            if not imposed[k]:
+                vel[i, 0] = ux / s
+                vel[i, dim - 1] = uz / s
+                if dim == 3:
+                    vel[i, 1] = uy / s
+            if rho_extra[k]:
+                rho[i] = sr / s
 
 
 @njit(cache=True)
@@ -300,6 +314,9 @@ class BufferZones:
                     self.pu[k, 0] = u[0]
                     self.imposed[k] = True
         self.hydro = np.array([z.density_mode == "hydrostatic" for z in self.zones], np.bool_)
+        self.fixed = np.array([z.density_mode == "fixed" for z in self.zones], np.bool_)
+        self.p_fixed = np.array([z.pressure or 0.0 for z in self.zones], np.float64)
+        self.rho_extra = np.array([z.density_mode == "extrapolated" for z in self.zones], np.bool_)
         self.level = np.array([z.level if z.level is not None else math.inf for z in self.zones], np.float64)
         self.g = float(surface_gravity)
         self.zone = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
@@ -332,10 +349,10 @@ class BufferZones:
         """Impose the buffers' state, convert, create and remove particles (module docstring)."""
         m = self.model
         gr = m.grid
-        _extrapolate(m.n, m.pos, m.vel, m.kind, self.zone, self.axis, self.x0, self.imposed, gr.cell_start,
-                     gr.gdims_arr, gr.lo, 1.0 / gr.cell_size, int(m.options.cells_per_support), m.h)
+        _extrapolate(m.n, m.pos, m.vel, m.rho, m.kind, self.zone, self.axis, self.x0, self.imposed, self.rho_extra,
+                     gr.cell_start, gr.gdims_arr, gr.lo, 1.0 / gr.cell_size, int(m.options.cells_per_support), m.h)
         _impose(m.n, m.pos, m.vel, m.rho, self.zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
-                self.hydro, self.level, m.rho0, self.g, m.B)
+                self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         n = m.n
         while True:
             s, r = _classify(n, m.pos, m.kind, self.zone, self.axis, self.sign, self.x0, self.depth, self.tlo,
@@ -376,6 +393,18 @@ class BufferZones:
                 seen.add(id(a))
                 out.append(a)
         return out
+
+    # ------------------------------------------------------------ checkpoints
+    def checkpoint_state(self):
+        """What a checkpoint keeps besides the zone tags (an array of the model's): the next id and the
+        counts."""
+        return {"next_id": int(self.next_id), "created": int(self.created), "removed": int(self.removed)}
+
+    def restore_state(self, state):
+        """Take `checkpoint_state`'s values back."""
+        self.next_id = int(state["next_id"])
+        self.created = int(state["created"])
+        self.removed = int(state["removed"])
 
     # ---------------------------------------------------------------- counts
     def counts(self):

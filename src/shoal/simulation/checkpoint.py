@@ -265,6 +265,7 @@ def capture(sim, case_toml, particles=None, rows=None):
                        "n_extra": len(m.extra_arrays)},
         "callbacks": cbs,
         "floating": m.floating.checkpoint_state(),
+        "buffers": m.buffers.checkpoint_state() if m.buffers is not None else {},
         "written": _time.strftime("%Y-%m-%dT%H:%M:%S"),
     }
     ds["meta"] = utf8_array(json.dumps(meta))
@@ -382,7 +383,9 @@ def restore(sim, ck):
     m = sim.model
     meta = ck.meta
     mm = meta["model"]
-    if mm["n_total"] != m.n_total or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
+    # with open boundaries the particle count changes (`shoal.particle_buffers`): the checkpoint's holds
+    same_count = m.buffers is not None or mm["n_total"] == m.n_total
+    if not same_count or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
         raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
                               f"this case has {m.n_total} ({m.dim}D, {np.dtype(m.dtype).str})")
     rows = ck.particles["pos"].shape[0] if "pos" in ck.particles else 0
@@ -427,6 +430,9 @@ def restore_scalars(sim, ck):
         m.floating.restore_state(meta.get("floating", []))
     except ValueError as err:
         raise CheckpointError(f"{ck.path.name}: {err}") from None
+    if m.buffers is not None:
+        m.buffers.restore_state(meta.get("buffers", {}))
+        m.n_total = int(mm["n_total"])
     m.n = int(mm["n"])
     m.n_escaped = int(mm["n_escaped"])
     m.time = _unf(mm["time"])

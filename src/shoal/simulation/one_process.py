@@ -214,9 +214,6 @@ def resume_point(case, out_dir):
         case = load_case(toml)
     check_same_case(case, ck)
     check_same_data(case, out_dir)
-    if case.open_boundaries:
-        raise InputError(f"the run in {out_dir} has open boundaries, whose runs cannot be resumed yet (the "
-                         "particle count changes); start it again without --resume")
     if ck.time >= case.end_time * (1 - 1e-12):
         raise InputError(f"the run in {out_dir} is complete (checkpoint {ck.path.name} at t = {ck.time:.6g} s, "
                          f"end_time = {case.end_time:g} s); give a later --end-time to extend it")
