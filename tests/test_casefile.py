@@ -37,6 +37,7 @@ ROUND_TRIP = {
     "rip-current": dict(dp=0.075),
     "floating-box-2d": dict(dp=0.025),
     "moored-box-3d": dict(dp=0.05),
+    "open-channel-2d": dict(dp=0.04),
 }
 
 PARTICLE_ARRAYS = ("positions", "kinds", "velocities", "body", "region", "spacing")

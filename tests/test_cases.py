@@ -16,6 +16,7 @@ COARSE = {
     "still-water-2d": dict(dp=0.05), "still-water-3d": dict(dp=0.06), "wave-flume-2d": dict(dp=0.04),
     "wave-basin-2d": dict(dp=0.04, length=4.5), "wave-flume-3d": dict(dp=0.08, width=0.4), "tidal-bore": dict(dp=0.025), "tidal-bore-piers": dict(dp=0.025),
     "rip-current": dict(dp=0.075), "floating-box-2d": dict(dp=0.025), "moored-box-3d": dict(dp=0.05),
+    "open-channel-2d": dict(dp=0.04),
 }
 
 
@@ -39,7 +40,8 @@ def test_case_builds_and_runs_a_few_steps(name):
     # solver_bytes is what the model holds once the integrator has its state
     moving = bool(np.any(p.kinds == 2))
     floating = any(s.floating is not None for s in case.solids)
-    assert solver_bytes(n0, case.dim, case.options, model.grid.ncell, moving, floating) == model.nbytes()
+    assert solver_bytes(n0, case.dim, case.options, model.grid.ncell, moving, floating,
+                        open_boundaries=bool(case.open_boundaries)) == model.nbytes()
     mem_line = next(s for s in lines if s.strip().startswith("memory:"))
     assert f"{model.nbytes() / 2**20:,.1f} MiB" in mem_line  # shoal check's estimate is what the run holds
 
