@@ -166,9 +166,11 @@ def case_cell_count(case):
 
 
 def case_solver_bytes(case):
-    """Bytes the solver will hold for `case` (generates its particles)."""
+    """Bytes the solver will hold for `case` (generates its particles): rows for its particles, and with open
+    boundaries room for a buffer's worth of copies (`shoal.particle_buffers.BufferZones`)."""
     p = case.particles()
-    return solver_bytes(len(p), case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == MOVING)),
+    rows = len(p) + (int((p.zone >= 0).sum()) if p.zone is not None else 0)
+    return solver_bytes(rows, case.dim, case.options, case_cell_count(case), moving=bool(np.any(p.kinds == MOVING)),
                         floating=any(s.floating is not None for s in case.solids),
                         open_boundaries=bool(case.open_boundaries))
 

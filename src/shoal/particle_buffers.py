@@ -323,6 +323,9 @@ class BufferZones:
         self.flags = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
         self.zone[:] = 0
         rows = np.flatnonzero(np.asarray(buffer_zone) >= 0)
+        # room for a buffer's worth of copies: a step creates its copies before it removes what left, so a
+        # steady flow needs a few rows beyond its count, never the store's 25 % growth
+        model.store.resize(model.n + len(rows))
         self.zone[rows] = np.asarray(buffer_zone)[rows] + 1
         self.next_id = int(model.n_total)
         """The id the next particle created gets."""
