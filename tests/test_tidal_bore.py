@@ -128,6 +128,16 @@ def test_undular_bore_one_scheme_quick(tmp_path):
 
 @pytest.mark.validation
 @pytest.mark.parametrize("U,L", [(0.3, 3.0), (0.7, 5.0)])
+def test_bores_made_by_an_open_inflow(U, L, tmp_path):
+    """Issue 33, must-show 4: the bores of `test_undular_bore_one_scheme_quick` (U = 0.3 m/s, 3 m) and of
+    `test_bores_at_the_paper_resolution_one_scheme`'s breaking case (U = 0.7 m/s, 5 m) at dp = d0/10, the water
+    let in at U with the depth d0 through an open boundary at x = L instead of pushed by a wall: the same
+    assertions (celerity and clear-water depth within 3 % of Belanger, undular or breaking)."""
+    run_bores_one_scheme(U, L, 0.01, tmp_path, inflow="open")
+
+
+@pytest.mark.validation
+@pytest.mark.parametrize("U,L", [(0.3, 3.0), (0.7, 5.0)])
 def test_bores_at_the_paper_resolution_one_scheme(U, L, tmp_path):
     """Issue 5 item 2 at the paper's dp = d0/20 = 5 mm with one scheme (`ADAMI`): the U = 0.3 m/s bore in
     the paper's 3 m flume and the U = 0.7 m/s bore in a 5 m one (timed over 1.0-2.5 m after it has
@@ -142,18 +152,20 @@ def test_bores_at_the_paper_resolution_one_scheme(U, L, tmp_path):
     run_bores_one_scheme(U, L, 0.005, tmp_path)
 
 
-def run_bores_one_scheme(U, L, dp, tmp_path):
-    """Run the `ADAMI` bore of inflow `U` in a flume `L` long at `dp` and assert issue 5 item 2 on it."""
+def run_bores_one_scheme(U, L, dp, tmp_path, inflow="wall"):
+    """Run the `ADAMI` bore of inflow `U` in a flume `L` long at `dp` (the water pushed in by a moving wall or let
+    in through an open boundary, `inflow`) and assert issue 5 item 2 on it."""
     c, d1, _ = bore_from_inflow(U, D0)
     t_end = 0.95 * L / (U + c)
     gauges = [x for x in (0.5, 1.0, 1.5, 2.0, 2.5) if x < c * t_end - 0.1]
     case = tidal_bore(dp=dp, inflow_speed=U, dim=2, end_time=t_end, output_interval=0.1,
-                      options=SPHOptions(**ADAMI), length=L, gauges_x=gauges)
+                      options=SPHOptions(**ADAMI), length=L, gauges_x=gauges, inflow=inflow)
     res = shoal.run_case(case, tmp_path / "bore", plot=False)
     assert res.escaped == 0
     timed = [x for x in gauges if x + 0.25 + 0.15 * c < c * t_end]  # 0.15 s of water behind the front
     cm, dd, n_depths, n_fronts, b_max = breaking_bore_measures(tmp_path / "bore", U, dp, L, gauges=timed,
-                                                               settled=(1.0, gauges[-1] + 0.25))
+                                                               settled=(1.0, gauges[-1] + 0.25),
+                                                               wall=inflow == "wall")
     print(f"{res.steps} steps, {res.wall_seconds:.0f} s")
     assert n_fronts >= 8
     assert abs(cm / c - 1) < 0.03
@@ -167,10 +179,12 @@ def run_bores_one_scheme(U, L, dp, tmp_path):
         assert b_max >= 1.0
 
 
-def breaking_bore_measures(run, U, dp, L, gauges=(0.5, 1.0, 1.5, 2.0), settled=(1.0, 2.75), bin_width=0.05):
+def breaking_bore_measures(run, U, dp, L, gauges=(0.5, 1.0, 1.5, 2.0), settled=(1.0, 2.75), bin_width=0.05,
+                           wall=True):
     """(celerity fitted to the front's track while it is within `settled` m, {gauge x: clear-water depth
     behind the front / d1 - 1}, {x: snapshots averaged}, snapshots in the track, max breaking index) of a
-    finished 2D `tidal_bore` run in `run` (snapshots and gauges `gauge_x<x>`)."""
+    finished 2D `tidal_bore` run in `run` (snapshots and gauges `gauge_x<x>`); the depth profile stops 0.3 m
+    before the inflow (the moving wall, or with `wall` false the open boundary at x = L)."""
     from shoal.analysis import front_position, volume_depth
     from shoal.output.pvd import read_pvd
 
@@ -184,7 +198,8 @@ def breaking_bore_measures(run, U, dp, L, gauges=(0.5, 1.0, 1.5, 2.0), settled=(
     for t, name in read_pvd(run / "tidal-bore.pvd"):
         pts, data = read_vtu(run / name)
         fl = data["kind"] == FLUID
-        x_end = L - U * t - 0.3  # the depth profile stops 0.3 m before the inflow wall
+        x_end = (L - U * t if wall else L) - 0.3  # the depth profile stops 0.3 m before the inflow
+        fl = fl & (pts[:, 0] < L) if not wall else fl  # not the open boundary's buffer
         xf = front_position(pts[fl], data["density"][fl], mass, mid, x_end, bin_width)
         if settled[0] <= xf <= settled[1] and xf < x_end - 2 * bin_width:
             times.append(t)

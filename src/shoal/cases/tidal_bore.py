@@ -6,7 +6,9 @@ celerity and conjugate depth follow the Rankine-Hugoniot (Belanger)
 relations; with Froude number Fr = (U + c) / sqrt(g d0) = 1.19 (U = 0.3 m/s)
 the bore is undular, with Fr = 1.63 (U = 0.7 m/s) it breaks. The inflow is
 made, as in the paper, by a vertical wall pushed at speed U at the upstream
-end (a moving-wall inflow).
+end (a moving-wall inflow), or (``inflow = "open"``) by an open boundary there
+that lets water in at U with the depth d0 (`shoal.open_boundary`; one
+process on the CPU).
 
 Geometry (paper, section 3.2): a 3 m x 0.3 m x 0.4 m flume; here the gate
 is the wall at x = 0, the water moves towards it (velocity -U along x) and
@@ -38,6 +40,7 @@ from ..case import Case, Fluid, FluidRegion, Output, Solid, SymmetryPlane
 from ..errors import InputError
 from ..geometry.shapes import Box, Prism, Tank
 from ..motions import ConstantVelocity
+from ..open_boundary import OpenBoundary
 from ..probes import WaveGauge
 from ..options import SPHOptions
 from ..memory import check_count
@@ -57,7 +60,7 @@ and the undular bore by 7.5 %; a real smooth bed's boundary layer is about 1 mm 
 
 
 def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, piers, pier_start, pier_length,
-          constriction, dim=3, length=LENGTH, gauges_x=None):
+          constriction, dim=3, length=LENGTH, gauges_x=None, inflow="wall"):
     check_positive("inflow_speed", inflow_speed, "m/s")
     check_positive("length", length, "m")
     check_positive("depth", depth, "m")
@@ -74,12 +77,22 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
     g = 9.81
     t_wall = 3 * dp
     check_count((length + t_wall) * (W if dim == 3 else dp) * HEIGHT / dp**3, 3)
+    if inflow not in ("wall", "open"):
+        raise InputError(f"inflow = {inflow!r}; allowed \"wall\" (a moving wall pushes the water) or \"open\" "
+                         "(an open boundary lets it in)")
     open_faces = ["top", "xmax"] + (["ymax"] if half else [])
-    solids = [
-        Solid(name="inflow wall", shape=Box(lo=(length, 0.0, 0.0), hi=(length + t_wall, W, HEIGHT)),
-              motion="inflow"),
-        Solid(name="flume", shape=Tank(lo=(0.0, 0.0, 0.0), hi=(length + t_wall, W, HEIGHT), open=open_faces)),
-    ]
+    opened = []
+    if inflow == "wall":
+        solids = [Solid(name="inflow wall", shape=Box(lo=(length, 0.0, 0.0), hi=(length + t_wall, W, HEIGHT)),
+                        motion="inflow")]
+        motions = [ConstantVelocity(name="inflow", velocity=(-inflow_speed, 0.0, 0.0))]
+        x_end = length + t_wall
+    else:  # the flume runs on under the buffer; water at d0 comes in at U
+        solids, motions = [], []
+        x_end = length + 6 * dp
+        opened = [OpenBoundary(name="inflow", point=(length, 0.0, 0.0), normal=(-1.0, 0.0, 0.0), lo=(length, 0.0, 0.0),
+                               hi=(length, W, HEIGHT), velocity=inflow_speed, level=depth)]
+    solids.append(Solid(name="flume", shape=Tank(lo=(0.0, 0.0, 0.0), hi=(x_end, W, HEIGHT), open=open_faces)))
     if piers:
         check_positive("constriction", constriction, "m")
         check_positive("pier_length", pier_length, "m")
@@ -110,6 +123,8 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
     desc = (f"{'undular' if fr < 1.3 else 'breaking'} tidal bore, U = {inflow_speed:g} m/s, d0 = {depth:g} m, "
             f"Fr = {fr:.2f}" + (", bridge-pier constriction" if piers else "") + (", half width" if half else ""))
     params = dict(dp=dp, inflow_speed=inflow_speed, depth=depth, half=half, froude=fr, length=length)
+    if inflow != "wall":
+        params["inflow"] = inflow
     y_gauge = W / 2 if not half else W - 2 * dp  # on the centre line (next to the symmetry plane)
     if piers:
         params.update(pier_start=pier_start, pier_length=pier_length, constriction=constriction)
@@ -127,8 +142,7 @@ def _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, pie
                 fluid=Fluid(depth=depth, u_max=c0_speed, surface_level=depth),
                 options=options or SPHOptions(**PAPER_OPTIONS),
                 solids=solids, fluids=fluids,
-                motions=[ConstantVelocity(name="inflow", velocity=(-inflow_speed, 0.0, 0.0))],
-                symmetry_planes=sym, probes=probes, output=Output(interval=float(output_interval)),
+                motions=motions, open_boundaries=opened, symmetry_planes=sym, probes=probes, output=Output(interval=float(output_interval)),
                 parameters=params)
 
 
@@ -140,7 +154,7 @@ def froude_of_bore(inflow_speed, depth, g=9.81):
 
 
 def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, dim=3, end_time=1.6, output_interval=0.05,
-               options=None, length=LENGTH, gauges_x=None):
+               options=None, length=LENGTH, gauges_x=None, inflow="wall"):
     """Tidal bore in the 3 m x 0.3 m x 0.4 m flume (moving-wall inflow).
 
     Parameters
@@ -169,12 +183,16 @@ def tidal_bore(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, dim=3, end_ti
     gauges_x : sequence of float, optional
         Wave-gauge positions [m from the gate] (gauges ``gauge_x<X>.csv``);
         default x = 0.5, 1.0 and 1.5 m.
+    inflow : {"wall", "open"}
+        How the water comes in at x = `length`: pushed by a wall moving at U
+        (the paper's), or through an open boundary imposing U and the depth
+        d0 (issue 33).
 
     Wave gauges on the centre line record the bore every 0.01 s
     (``gauge_*.csv`` in the run's directory).
     """
     return _bore(dp, inflow_speed, depth, half, end_time, output_interval, options, False, 1.0, 0.6, 0.05, dim,
-                 length, gauges_x)
+                 length, gauges_x, inflow)
 
 
 def tidal_bore_piers(dp=0.01, inflow_speed=0.3, depth=DEPTH, half=False, pier_start=1.0, pier_length=0.6,
