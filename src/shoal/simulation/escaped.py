@@ -87,8 +87,10 @@ class EscapedRecorder(Recorder):
         self.last = (t, p[-1].copy()) if len(ids) else self.last
 
     def fluid_escaped(self, model):
-        """Number of fluid particles that have left the domain."""
-        return self.n_fluid0 - model.n_fluid
+        """Number of fluid particles that have left the domain: those missing from the count at the start,
+        less what open boundaries created and removed (`shoal.particle_buffers`)."""
+        b = model.buffers
+        return self.n_fluid0 + ((b.created - b.removed) if b is not None else 0) - model.n_fluid
 
     def __call__(self, sim):
         """Stop the run if too much fluid has left (a callback, every step)."""
