@@ -304,3 +304,36 @@ def test_particles_the_outlet_removes_are_not_counted_as_escaped(tmp_path):
     rec.close()
     res = shoal.run_case(case, tmp_path / "run", plot=False, progress=False)
     assert res.escaped == 0
+
+
+def test_a_3d_channel_between_side_walls_accounts_for_every_particle():
+    """3D: a channel 0.1 m wide between side walls (the default scheme), an inlet of imposed velocity and
+    level across its whole section and an outlet: after 0.4 s every particle is accounted for (fluid = start +
+    created - removed), the ids are unique, none has left through a side wall or the bed, and the buffers
+    span the section (5 x 5 nodes a row at dp = 0.02 m, 4 rows: the 3D kernel's support 2 sqrt(3) dp)."""
+    from shoal.geometry.shapes import Tank
+    from shoal.runner import build_model
+    from shoal.simulation import Simulation
+
+    dp, L, W, d = 0.02, 0.4, 0.1, 0.1
+    case = Case(name="channel-3d", dim=3, dp=dp, end_time=0.25, fluid=Fluid(depth=d, surface_level=d),
+                solids=[Solid(name="channel", shape=Tank(lo=(-0.2, 0, 0), hi=(L + 0.2, W, 2 * d), open=["top", "xmin", "xmax"]))],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(L, W, d)), velocity=(0.2, 0, 0))],
+                open_boundaries=[
+                    OpenBoundary(name="in", point=(0, 0, 0), normal=(1, 0, 0), lo=(0, 0, 0), hi=(0, W, 2 * d),
+                                 velocity=0.2, level=d),
+                    OpenBoundary(name="out", point=(L, 0, 0), normal=(-1, 0, 0), lo=(L, 0, 0), hi=(L, W, 2 * d),
+                                 level=d)],
+                output=Output(interval=0.25))
+    p = case.particles()
+    assert np.count_nonzero(p.zone == 0) == np.count_nonzero(p.zone == 1) == 4 * 5 * 5
+    model = build_model(case)
+    b = model.buffers
+    n0 = model.n_fluid
+    Simulation(model, case.end_time).run()
+    assert model.n_fluid == n0 + b.created - b.removed and b.created >= 50 and b.removed > 0
+    ids = model.host(model.idp)
+    assert len(np.unique(ids)) == len(ids)
+    pos = model.world_positions()[model.host(model.kind) == FLUID]
+    assert pos[:, 1].min() > 0 and pos[:, 1].max() < W and pos[:, 2].min() > 0
+    assert model.n_escaped == 0
