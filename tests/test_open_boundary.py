@@ -337,3 +337,20 @@ def test_a_3d_channel_between_side_walls_accounts_for_every_particle():
     pos = model.world_positions()[model.host(model.kind) == FLUID]
     assert pos[:, 1].min() > 0 and pos[:, 1].max() < W and pos[:, 2].min() > 0
     assert model.n_escaped == 0
+
+
+def test_a_boundary_the_case_cannot_have_is_refused():
+    """A 2D case has no y normal, a domain periodic along the normal cannot also let the water out there, and
+    two boundaries need two names: each refused in one line."""
+    from shoal.case import Domain
+
+    base = channel()
+    ob = base.open_boundaries[0]
+    sideways = OpenBoundary(**{**ob.model_dump(), "normal": (0, 1, 0)})
+    with pytest.raises(InputError, match="points along y, which a 2D case"):
+        base.model_copy(update={"open_boundaries": [sideways]}).revalidate()
+    periodic = Domain(lo=(-0.5, 0, -0.2), hi=(2.5, 0, 0.5), periodic=["x"])
+    with pytest.raises(InputError, match="periodic along x: water cannot both wrap around and leave"):
+        base.model_copy(update={"domain": periodic}).revalidate()
+    with pytest.raises(InputError, match="open boundaries named 'in' more than once"):
+        base.model_copy(update={"open_boundaries": [ob, ob]}).revalidate()

@@ -450,6 +450,18 @@ class Case(BaseModel):
                 raise ValueError(f"domain.periodic = {self.domain.periodic}: the domain is {length:.6g} m long in {a}, "
                                  f"not a whole number of particle spacings dp = {self.dp:g} m (the lattice would not "
                                  f"join up across the period); make it {max(1, round(length / self.dp)) * self.dp:.6g} m")
+        names = [ob.name for ob in self.open_boundaries]
+        for i, ob in enumerate(self.open_boundaries):
+            if self.dim == 2 and ob.axis == 1:
+                raise ValueError(f"open_boundaries[{i}] ({ob.name!r}): normal = {list(ob.normal)} points along y, which a "
+                                 "2D case (the x-z plane) does not have; use [1, 0, 0] or [-1, 0, 0]")
+            periodic = self.domain.periodic if self.domain is not None else []
+            if "xy"[ob.axis] in periodic:
+                c = "xy"[ob.axis]
+                raise ValueError(f"open_boundaries[{i}] ({ob.name!r}) is a plane {c} = const of a domain periodic along "
+                                 f"{c}: water cannot both wrap around and leave there; drop one")
+            if names.count(ob.name) > 1:
+                raise ValueError(f"open boundaries named {ob.name!r} more than once; give each its own name")
         if len(self.symmetry_planes) > 1:
             raise ValueError(f"{len(self.symmetry_planes)} symmetry_planes given; one per case is supported")
         for i, sp in enumerate(self.symmetry_planes):
