@@ -135,6 +135,40 @@ def rectangle_heave_coefficients(omega, beam, draft, depth, rho=RHO, g=G, modes=
     return float(a33), float(b33), float(2 * rho * omega * k0 * N[0].real * abs(An[0]) ** 2)
 
 
+def free_oscillation(stiffness, inertia, coefficients, omega0):
+    """A free oscillation with frequency-dependent added inertia and damping, linear theory.
+
+    The fixed point omega_n = sqrt(C / (I + a(omega_n))), iterated (with averaging) from `omega0` to 1e-12
+    relative, then zeta = b(omega_n) / (2 (I + a(omega_n)) omega_n) and T_d = 2 pi / (omega_n sqrt(1 - zeta^2))
+    (a damped oscillator with the coefficients at its own frequency; e.g. Journee & Massie, "Offshore
+    Hydromechanics", 2001, section 6.3.2).
+
+    Parameters
+    ----------
+    stiffness, inertia : float
+        C and I (per metre: N/m^2 and kg/m in heave, N m/m and kg m in roll).
+    coefficients : callable
+        omega -> (a, b), the added inertia and the radiation damping at omega.
+    omega0 : float
+        The iteration's start [rad/s].
+
+    Returns
+    -------
+    dict
+        omega_n [rad/s], period_n, period_d [s], zeta, a, b.
+    """
+    w = omega0
+    for _ in range(200):
+        w_new = math.sqrt(stiffness / (inertia + coefficients(w)[0]))
+        if abs(w_new - w) < 1e-12 * w:
+            break
+        w = 0.5 * (w + w_new)
+    a, b = coefficients(w)
+    zeta = b / (2 * (inertia + a) * w)
+    return dict(omega_n=w, period_n=2 * math.pi / w, period_d=2 * math.pi / (w * math.sqrt(1 - zeta * zeta)),
+                zeta=zeta, a=a, b=b)
+
+
 def heave_decay_prediction(beam, draft, depth, mass=None, rho=RHO, g=G, modes=80):
     """Natural frequency, period and damping ratio of the free heave of a floating rectangle, linear theory.
 
@@ -157,17 +191,15 @@ def heave_decay_prediction(beam, draft, depth, mass=None, rho=RHO, g=G, modes=80
     """
     mass = rho * beam * draft if mass is None else mass
     C = rho * g * beam
-    w = math.sqrt(C / (2 * mass))
-    for _ in range(100):
-        a33, b33 = rectangle_heave_coefficients(w, beam, draft, depth, rho, g, modes)
-        w_new = math.sqrt(C / (mass + a33))
-        if abs(w_new - w) < 1e-12 * w:
-            break
-        w = 0.5 * (w + w_new)
-    a33, b33 = rectangle_heave_coefficients(w, beam, draft, depth, rho, g, modes)
-    zeta = b33 / (2 * (mass + a33) * w)
-    return dict(omega_n=w, period_n=2 * math.pi / w, period_d=2 * math.pi / (w * math.sqrt(1 - zeta * zeta)),
-                zeta=zeta, a33=a33, b33=b33, mass=mass, stiffness=C)
+    p = free_oscillation(C, mass, lambda w: rectangle_heave_coefficients(w, beam, draft, depth, rho, g, modes),
+                         math.sqrt(C / (2 * mass)))
+    return _heave_keys(p, mass, C)
+
+
+def _heave_keys(p, mass, stiffness):
+    """`free_oscillation`'s dict with heave's names (a33, b33) and the mass and stiffness."""
+    p = dict(p, a33=p.pop("a"), b33=p.pop("b"))
+    return dict(p, mass=mass, stiffness=stiffness)
 
 
 # ------------------------------------------------------------------ analysis of a decay record
@@ -347,13 +379,9 @@ def prediction_from_table(path=None, mass=RHO * BEAM * DRAFT, beam=BEAM):
     head, data = read_csv_with_comments(path or data_path())
     w_tab, a_tab, b_tab = (data[:, head.index(c)] for c in ("omega", "a33", "b33"))
     C = RHO * G * beam
-    w = math.sqrt(C / (2 * mass))
-    for _ in range(200):
-        w = 0.5 * (w + math.sqrt(C / (mass + float(np.interp(w, w_tab, a_tab)))))
-    a33, b33 = float(np.interp(w, w_tab, a_tab)), float(np.interp(w, w_tab, b_tab))
-    zeta = b33 / (2 * (mass + a33) * w)
-    return dict(omega_n=w, period_n=2 * math.pi / w, period_d=2 * math.pi / (w * math.sqrt(1 - zeta * zeta)),
-                zeta=zeta, a33=a33, b33=b33, mass=mass, stiffness=C)
+    p = free_oscillation(C, mass, lambda w: (float(np.interp(w, w_tab, a_tab)), float(np.interp(w, w_tab, b_tab))),
+                         math.sqrt(C / (2 * mass)))
+    return _heave_keys(p, mass, C)
 
 
 # ------------------------------------------------------------------ the SPH case

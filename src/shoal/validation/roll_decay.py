@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .heave_decay import BEAM, DEPTH, DRAFT, G, RHO, FreeDecay, run_decay, water_wavenumbers
+from .heave_decay import BEAM, DEPTH, DRAFT, G, RHO, FreeDecay, free_oscillation, run_decay, water_wavenumbers
 
 DATA_FILE = "rollDecay_rectangle_BT2_h2B_potential_flow.csv"
 """The reference numbers of the case (in ``src/shoal/data/``): a44, b44 against omega and the predicted decay."""
@@ -188,17 +188,15 @@ def roll_decay_prediction(beam, draft, depth, centre, inertia, rho=RHO, g=G, mod
     if gm <= 0:
         raise ValueError(f"GM = {gm:.4g} m: the section is not stable in roll")
     C = rho * g * beam * draft * gm
-    w = math.sqrt(C / inertia)
-    for _ in range(100):
-        a44, b44 = rectangle_roll_coefficients(w, beam, draft, depth, centre, rho, g, modes)
-        w_new = math.sqrt(C / (inertia + a44))
-        if abs(w_new - w) < 1e-12 * w:
-            break
-        w = 0.5 * (w + w_new)
-    a44, b44 = rectangle_roll_coefficients(w, beam, draft, depth, centre, rho, g, modes)
-    zeta = b44 / (2 * (inertia + a44) * w)
-    return dict(omega_n=w, period_n=2 * math.pi / w, period_d=2 * math.pi / (w * math.sqrt(1 - zeta * zeta)),
-                zeta=zeta, a44=a44, b44=b44, inertia=inertia, stiffness=C, gm=gm)
+    p = free_oscillation(C, inertia, lambda w: rectangle_roll_coefficients(w, beam, draft, depth, centre, rho, g,
+                                                                           modes), math.sqrt(C / inertia))
+    return _roll_keys(p, inertia, C, gm)
+
+
+def _roll_keys(p, inertia, stiffness, gm):
+    """`free_oscillation`'s dict with roll's names (a44, b44), the inertia, stiffness and GM."""
+    p = dict(p, a44=p.pop("a"), b44=p.pop("b"))
+    return dict(p, inertia=inertia, stiffness=stiffness, gm=gm)
 
 
 # ------------------------------------------------------------------ the case's numbers
@@ -296,13 +294,9 @@ def prediction_from_table(path=None, inertia=INERTIA, stiffness=None):
     w_tab, a_tab, b_tab = (data[:, head.index(c)] for c in ("omega", "a44", "b44"))
     gm = 0.5 * DRAFT + BEAM * BEAM / (12 * DRAFT) - (DRAFT + CENTRE)
     C = RHO * G * BEAM * DRAFT * gm if stiffness is None else stiffness
-    w = math.sqrt(C / inertia)
-    for _ in range(200):
-        w = 0.5 * (w + math.sqrt(C / (inertia + float(np.interp(w, w_tab, a_tab)))))
-    a44, b44 = float(np.interp(w, w_tab, a_tab)), float(np.interp(w, w_tab, b_tab))
-    zeta = b44 / (2 * (inertia + a44) * w)
-    return dict(omega_n=w, period_n=2 * math.pi / w, period_d=2 * math.pi / (w * math.sqrt(1 - zeta * zeta)),
-                zeta=zeta, a44=a44, b44=b44, inertia=inertia, stiffness=C, gm=gm)
+    p = free_oscillation(C, inertia, lambda w: (float(np.interp(w, w_tab, a_tab)), float(np.interp(w, w_tab, b_tab))),
+                         math.sqrt(C / inertia))
+    return _roll_keys(p, inertia, C, gm)
 
 
 def run_roll_decay(out, backend="cpu", **kw):
