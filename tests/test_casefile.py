@@ -38,6 +38,8 @@ ROUND_TRIP = {
     "floating-box-2d": dict(dp=0.025),
     "moored-box-3d": dict(dp=0.05),
     "open-channel-2d": dict(dp=0.04),
+    "sluice-gate-2d": dict(dp=0.015),
+    "weir-2d": dict(dp=0.02),
 }
 
 PARTICLE_ARRAYS = ("positions", "kinds", "velocities", "body", "region", "spacing")

@@ -722,9 +722,9 @@ def test_flow_gauge_matches_cpu():
     out = []
     for m in (cpu, gpu):
         m.sort()
-        prev, _, q = m.flow_sample(spec, None)
+        prev, _, q, _ = m.flow_sample(spec, None)
         prev = prev - 0.5 * A * (np.arange(len(prev)) % 3 == 0)  # a third of the particles came from upstream
-        _, crossed, _ = m.flow_sample(spec, prev)
+        _, crossed, _, _ = m.flow_sample(spec, prev)
         out.append((crossed, q))
     assert out[0][0] > 0 and out[0][1] != 0
     assert out[0][0] == out[1][0] and abs(out[0][1] - out[1][1]) <= 1e-12 * abs(out[0][1])

@@ -58,22 +58,23 @@ def test_uniform_stream_on_a_lattice_is_measured_exactly(offset):
     rho = np.full(n, rho0)
     mass = rho0 * dp**3
     spec = FlowGauge(name="f", at=0.105, interval=1.0)
-    prev, crossed, q = flow_measure(pos, vel, rho, kinds, ids, spec, 3, dp, mass, None, n + 5)
+    prev, crossed, q, area = flow_measure(pos, vel, rho, kinds, ids, spec, 3, dp, mass, None, n + 5)
     assert crossed is None and np.isnan(prev[n:]).all() and np.isnan(prev[ids[kinds == 1]]).all()
     A = ny * dp * nz * dp
     assert q == pytest.approx(U * A, rel=1e-12)
+    assert area == pytest.approx(A, rel=1e-12)  # the wetted area: the lattice's section
     dt = 3 * dp / U
-    now, crossed, _ = flow_measure(pos + vel * dt, vel, rho, kinds, ids, spec, 3, dp, mass, prev, n + 5)
+    now, crossed, _, _ = flow_measure(pos + vel * dt, vel, rho, kinds, ids, spec, 3, dp, mass, prev, n + 5)
     assert crossed * dp**3 == pytest.approx(U * A * dt, rel=1e-12)
     # the section's extent: y in [0, 2 dp] holds 2 of the 6 rows of columns (y = 0.5, 1.5 dp)
     part = spec.model_copy(update={"lo": (0.0, 0.0, 0.0), "hi": (0.0, 2.0 * dp, 1.0)})
-    _, c2, q2 = flow_measure(pos + vel * dt, vel, rho, kinds, ids, part, 3, dp, mass, prev, n + 5)
+    _, c2, q2, a2 = flow_measure(pos + vel * dt, vel, rho, kinds, ids, part, 3, dp, mass, prev, n + 5)
     assert c2 == crossed * 2 // ny
-    assert q2 == pytest.approx(U * A * 2 / ny, rel=1e-12)
+    assert q2 == pytest.approx(U * A * 2 / ny, rel=1e-12) and a2 == pytest.approx(A * 2 / ny, rel=1e-12)
     # the stream reversed: the same volume back, negative
-    _, back, qb = flow_measure(pos + vel * dt, -vel, rho, kinds, ids, spec, 3, dp, mass, now, n + 5)
+    _, back, qb, _ = flow_measure(pos + vel * dt, -vel, rho, kinds, ids, spec, 3, dp, mass, now, n + 5)
     assert back == 0  # nothing moved since `now`
-    _, back, _ = flow_measure(pos, -vel, rho, kinds, ids, spec, 3, dp, mass, now, n + 5)
+    _, back, _, _ = flow_measure(pos, -vel, rho, kinds, ids, spec, 3, dp, mass, now, n + 5)
     assert back == -crossed and qb == pytest.approx(-U * A, rel=1e-12)
 
 
@@ -165,8 +166,8 @@ def test_discharge_at_the_gate_is_ritters(ritter_run):
     integral is the counted volume within 3 % (two measures of one flux; measured 1.0 % at H/20)."""
     out, model, case, _ = ritter_run
     head, d = _rows(out / "flow_gate.csv")
-    assert head == ["time", "volume", "rate", "rate_slab"]
-    t, vol, rate, slab = d[:-1].T  # the last row is the extra end sample
+    assert head == ["time", "volume", "rate", "rate_slab", "area_slab"]
+    t, vol, rate, slab, _ = d[:-1].T  # the last row is the extra end sample
     assert np.isnan(rate[0]) and vol[0] == 0.0
     T = t * np.sqrt(9.81 / H)
     w = (T >= 2.0) & (T <= 5.0)

@@ -59,6 +59,10 @@ def test_buffer_lattice_continues_the_fluid_behind_the_plane():
     (dict(velocity=0.2, discharge=0.04), "velocity and discharge given"),
     (dict(discharge=0.04, level=None), "a discharge needs the level"),
     (dict(density="hydrostatic", level=None), "needs the level"),
+    (dict(velocity_mode="riemann", level=None), "holds a level"),
+    (dict(velocity_mode="riemann", velocity=0.2), "either imposed"),
+    (dict(velocity_mode="riemann", level=-0.1), "not above the bottom of the section"),
+    (dict(velocity_mode="riemann", relaxation_time=0.0), "greater than 0"),
 ])
 def test_a_bad_boundary_is_one_clear_error(change, message):
     base = dict(name="in", point=(0, 0, 0), normal=(1, 0, 0), lo=(0, 0, 0), hi=(0, 0, 0.4), level=0.2)
@@ -82,8 +86,8 @@ def test_a_plane_off_the_lattice_or_a_buffer_in_the_water_is_refused():
         inside.particles()
 
 
-def run_channel(case, sections=SECTIONS):
-    """Run `case`; every 0.1 s record the time, the fluid particles of the domain and of the buffers, the
+def run_channel(case, sections=SECTIONS, extra=None):
+    """Run `case`; every 0.1 s (and call `extra(sim)` if given) record the time, the fluid particles of the domain and of the buffers, the
     most particles ever below the bed, the depth at each of SECTIONS (the highest fluid particle within dp of
     it, plus dp/2) and the particles that crossed each section since the sample before (the flow gauges'
     count, `Model.flow_sample`). Returns (record, {section: crossings per sample}, the model, its ids)."""
@@ -109,9 +113,11 @@ def run_channel(case, sections=SECTIONS):
         for x in sections:
             rec["depth"][x].append(p[np.abs(p[:, 0] - x) < case.dp, 2].max() + 0.5 * case.dp)
         for x, g in gauges.items():
-            now, crossed, _ = m.flow_sample(g, prev[x])
+            now, crossed, _, _ = m.flow_sample(g, prev[x])
             prev[x] = now
             passed[x].append(0 if crossed is None else crossed)
+        if extra is not None:
+            extra(s)
 
     sim.add_callback(sample, TimeInterval(0.1))
     sim.run()
@@ -184,16 +190,19 @@ def test_shoal_check_reports_the_inflow_and_the_growth():
            "water inside" in text
 
 
-def test_stop_and_resume_while_particles_are_created_is_bitwise(tmp_path):
+@pytest.mark.parametrize("inlet", [{}, dict(velocity_mode="riemann", relaxation_time=0.02)], ids=["velocity", "level"])
+def test_stop_and_resume_while_particles_are_created_is_bitwise(tmp_path, inlet):
     """Issue 33, must-show 6 (CPU): the channel run to 0.06 s in one go, and to 0.03 s then resumed from its
     checkpoint to 0.06 s, while the inlet creates and the outlet removes particles (the count and the arrays'
     rows change between the two halves): the same particles (ids), positions, velocities and densities, bit
-    for bit, and the same counts of created and removed particles."""
+    for bit, and the same counts of created and removed particles. Also with an inlet that holds its level,
+    whose running mean of the speed (over 0.02 s here, so that it moves) is in the checkpoint."""
     import shoal
 
-    full = shoal.run_case(channel(end_time=0.06, length=1.0, output=0.01), tmp_path / "full", plot=False,
+    full = shoal.run_case(channel(end_time=0.06, length=1.0, output=0.01, **inlet), tmp_path / "full", plot=False,
                           progress=False)
-    shoal.run_case(channel(end_time=0.03, length=1.0, output=0.01), tmp_path / "half", plot=False, progress=False)
+    shoal.run_case(channel(end_time=0.03, length=1.0, output=0.01, **inlet), tmp_path / "half", plot=False,
+                   progress=False)
     resumed = shoal.resume_run(tmp_path / "half", end_time=0.06, plot=False, progress=False)
     a, b = full.model, resumed.model
     assert a.buffers.created > 0 and a.buffers.removed > 0
@@ -203,6 +212,7 @@ def test_stop_and_resume_while_particles_are_created_is_bitwise(tmp_path):
     for name in ("idp", "pos", "vel", "rho", "kind"):
         assert np.array_equal(a.host(getattr(a, name)), b.host(getattr(b, name))), name
     assert np.array_equal(a.buffers.zone[:a.n], b.buffers.zone[:b.n])
+    assert np.array_equal(a.buffers.mean_speed, b.buffers.mean_speed, equal_nan=True)
 
 
 D_PLATES, NU, U_MAX = 1e-3, 1e-6, 0.025
@@ -354,3 +364,43 @@ def test_a_boundary_the_case_cannot_have_is_refused():
         base.model_copy(update={"domain": periodic}).revalidate()
     with pytest.raises(InputError, match="open boundaries named 'in' more than once"):
         base.model_copy(update={"open_boundaries": [ob, ob]}).revalidate()
+
+
+def test_riemann_speed_keeps_the_steady_flow_and_lets_a_wave_out():
+    """`riemann_speed`: in a steady flow (u_i = U, d_i = d_b) the boundary moves with the water; water inside
+    lower than the level draws more in. A small wave running out through the plane (towards -n, in still water
+    d: u' = -eta sqrt(g / d)) finds at the boundary its own velocity, to second order in eta: R+ is unchanged
+    across it, so nothing is reflected."""
+    from shoal.open_boundary import riemann_speed
+
+    g, d = 9.81, 0.3
+    assert riemann_speed(d, d, 0.25, 0.25, g) == pytest.approx(0.25)
+    assert riemann_speed(d, 0.29, 0.25, 0.25, g) > 0.25
+    for eta in (1e-3, -1e-3):
+        u = -eta * np.sqrt(g / d)
+        assert riemann_speed(d, d + eta, u, 0.0, g) == pytest.approx(u, abs=2 * eta**2 * np.sqrt(g / d) / d)
+
+
+def test_an_inlet_that_holds_its_level_feeds_what_the_outlet_takes():
+    """An inlet that holds its level (``velocity_mode = "riemann"``, running mean over 1 s) at one end of the
+    1 m channel and an outlet that takes 0.2 m/s over the depth (0.04 m^2/s) at the other: the inlet lets in
+    what the outlet takes, the discharge through three sections within 2 % of 0.04 m^2/s from 1 s on (290
+    particles pass each: one is 0.35 %), and the depth beside the inlet within 1 % of the level (the inlet's
+    own measure, the particles' volume in the band next to its plane)."""
+    case = channel(end_time=3.5, length=1.0).model_copy(update={"open_boundaries": [
+        OpenBoundary(name="in", point=(0, 0, 0), normal=(1, 0, 0), lo=(0, 0, 0), hi=(0, 0, 2 * DEPTH), level=DEPTH,
+                     velocity_mode="riemann", relaxation_time=1.0),
+        OpenBoundary(name="out", point=(1.0, 0, 0), normal=(-1, 0, 0), lo=(1.0, 0, 0), hi=(1.0, 0, 2 * DEPTH),
+                     level=DEPTH, velocity=-0.2)]}).revalidate()
+    depths = []
+    rec, passed, model, ids = run_channel(case, (0.25, 0.5, 0.75),
+                                          extra=lambda sim: depths.append((sim.time, sim.model.buffers.boundary_state(0)[0])))
+    t = np.array(rec["t"])
+    late = t >= 1.0 - 1e-9
+    for x in (0.25, 0.5, 0.75):
+        q = np.sum(np.array(passed[x])[late][1:]) * case.dp ** 2 / (t[late][-1] - t[late][0])
+        print(f"x = {x} m: discharge {q:.5f} m^2/s ({q / 0.04 - 1:+.2%})")
+        assert abs(q / 0.04 - 1) < 0.02
+    td, d = np.array(depths).T
+    print(f"depth beside the inlet from 1 s: {d[td >= 1.0].min():.4f} to {d[td >= 1.0].max():.4f} m")
+    assert np.max(np.abs(d[td >= 1.0] / DEPTH - 1)) < 0.01

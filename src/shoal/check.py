@@ -81,6 +81,10 @@ def open_boundary_lines(case):
         head = f"  open boundary {ob.name}: {where}, buffer {n_buf} particles in {ob.buffer_layers(support, case.dp)} rows"
         z = p.positions[p.zone == k, 2]
         u = ob.speed(z, case.dim)
+        if ob.holds_level:
+            lines.append(head + f"; holds the level {ob.level:g} m (velocity from the Riemann invariant, mean over "
+                                f"{ob.relaxation_time:g} s): its inflow is what the flow draws, not known before the run")
+            continue
         if u is None:
             lines.append(head + "; velocity from the water inside (an outlet)")
             continue

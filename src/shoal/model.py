@@ -954,7 +954,7 @@ class Model:
 
         Returns (each fluid particle's coordinate along the axis by id, NaN for the other ids;
         the net number of particles that crossed the section since `prev`, None without `prev`;
-        the instantaneous slab flow rate)."""
+        the instantaneous slab flow rate and wetted area)."""
         from .probes.flow import flow_measure
 
         pos, kinds, ids = self.owned_particles()
@@ -962,13 +962,13 @@ class Model:
         period = 0.0
         if axis in self.periodic:
             period = self.params.per_len_x if axis == "x" else self.params.per_len_y
-        new, crossed, q = flow_measure(pos, self.world_velocities(), self.owned_density(), kinds, ids, spec,
-                                       self.dim, self.dp, self.mass, prev, self.n_ids, period)
+        new, crossed, q, area = flow_measure(pos, self.world_velocities(), self.owned_density(), kinds, ids, spec,
+                                             self.dim, self.dp, self.mass, prev, self.n_ids, period)
         # each particle's coordinate comes from the one process that holds it (NaN on the others)
         new = self.reduce_array(np.where(np.isnan(new), -np.inf, new), "max")
         if crossed is not None:
             crossed = self.reduce(crossed, "sum")
-        return np.where(np.isneginf(new), np.nan, new), crossed, self.reduce(q, "sum")
+        return np.where(np.isneginf(new), np.nan, new), crossed, self.reduce(q, "sum"), self.reduce(area, "sum")
 
     def shoreline(self, spec):
         """(zmax, x, y) [m] of a `RunupGauge` `spec` with `min_depth`: the wet shoreline's highest point

@@ -8,7 +8,9 @@ take part in every pair term as fluid, but their own state is imposed, not integ
 
 * the **velocity**: `velocity` [m/s] along the normal (positive: into the domain), or a profile u(z)
   (`profile`), or the `discharge` spread uniformly over the section below the `level`; without any of them
-  (an outlet) the velocity of the water at the particle's mirror image across the plane;
+  (an outlet) the velocity of the water at the particle's mirror image across the plane; or, with a `level`
+  and ``velocity_mode = "riemann"`` (a reservoir, a tide, a tailwater), the velocity that holds the level:
+  from the shallow-water Riemann invariant carried out of the domain (`riemann_speed`);
 * the **density**: hydrostatic below the `level` (``density = "hydrostatic"``, p = rho0 g (level - z)
   through the equation of state; the default with a level), the density of the water at the particle's
   mirror image inside (``"extrapolated"``, the default without a level), or that of a fixed `pressure`
@@ -34,6 +36,9 @@ In a case file::
 
 References
 ----------
+J. J. Stoker, *Water Waves*, Interscience (1957), ch. 10 (the characteristics of shallow-water flow).
+G. K. Verboom, A. Slob, "Weakly-reflective boundary conditions for two-dimensional shallow water flow
+problems", Adv. Water Resources 7 (1984) 192-197 (boundaries of given level through the outgoing invariant).
 A. Tafuni, J. M. Dominguez, R. Vacondio, A. J. C. Crespo, "A versatile algorithm for the treatment of open
 boundary conditions in smoothed particle hydrodynamics GPU models", Comput. Methods Appl. Mech. Engrg. 342
 (2018) 604-624.
@@ -95,6 +100,13 @@ class OpenBoundary(Spec):
     pressure : float, optional
         The buffer's pressure [Pa] with ``density = "fixed"`` (e.g. 0 at the outlet of a pressure-driven
         channel).
+    velocity_mode : {"extrapolated", "riemann"}, optional
+        Where no velocity is imposed: the water's at the mirror image (``"extrapolated"``, the default), or
+        the speed that holds the `level` (``"riemann"``, `riemann_speed`; needs a level; the section's
+        bottom is the bed).
+    relaxation_time : float
+        With ``velocity_mode = "riemann"``: the time over which the running mean of the water's speed at the
+        plane is taken [s] (longer than the waves it should let out).
     """
 
     name: Annotated[str, Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$")] = "open"
@@ -109,6 +121,8 @@ class OpenBoundary(Spec):
     level: Real | None = None
     density: Literal["hydrostatic", "extrapolated", "fixed"] | None = None
     pressure: Real | None = None
+    velocity_mode: Literal["extrapolated", "riemann"] | None = None
+    relaxation_time: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 3.0
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -121,6 +135,16 @@ class OpenBoundary(Spec):
         if len(given) > 1:
             raise ValueError(f"{' and '.join(given)} given: impose one of velocity, profile or discharge (or none, "
                              "for an outlet)")
+        if self.velocity_mode is not None and given:
+            raise ValueError(f'velocity_mode = "{self.velocity_mode}" with {given[0]} given: the velocity is either '
+                             'imposed (velocity, profile or discharge) or not (velocity_mode "extrapolated" or '
+                             '"riemann")')
+        if self.velocity_mode == "riemann" and self.level is None:
+            raise ValueError('velocity_mode = "riemann" holds a level: give the level of the water at the boundary '
+                             '(level = ...)')
+        if self.velocity_mode == "riemann" and self.level <= min(self.lo[2], self.hi[2]):
+            raise ValueError(f'velocity_mode = "riemann": level = {self.level:g} m is not above the bottom of the '
+                             f'section ({min(self.lo[2], self.hi[2]):g} m, the bed there)')
         if self.discharge is not None and self.level is None:
             raise ValueError("a discharge needs the level of the water at the boundary (level = ...), over "
                              "which it is spread")
@@ -152,6 +176,23 @@ class OpenBoundary(Spec):
         if self.pressure is not None:
             return "fixed"
         return "hydrostatic" if self.level is not None else "extrapolated"
+
+    @property
+    def holds_level(self):
+        """True when the velocity is the one that holds the level (``velocity_mode = "riemann"``)."""
+        return self.velocity_mode == "riemann"
+
+    @property
+    def bed(self):
+        """The bottom of the section [m], the bed under a boundary that holds a level."""
+        return float(min(self.lo[2], self.hi[2]))
+
+    def section_width(self, dim):
+        """The section's horizontal width [m] (1 in 2D: per metre of width)."""
+        if dim == 2:
+            return 1.0
+        t = 1 - self.axis
+        return float(abs(self.hi[t] - self.lo[t]))
 
     def buffer_layers(self, support, dp):
         """`layers`, or the rows that cover the kernel support `support` [m] (at least 2)."""
@@ -236,10 +277,40 @@ class OpenBoundary(Spec):
         return pts
 
 
+def riemann_speed(level_depth, depth, speed, mean_speed, g):
+    """The speed along the normal [m/s] at a boundary of subcritical flow that holds the mean depth
+    `level_depth` and lets waves out.
+
+    Of the two shallow-water characteristics dx/dt = u -+ c (c = sqrt(g d), u along the normal, into the
+    domain), the one of u - c leaves the domain through the boundary, carrying the invariant R- = u_i - 2 c_i of
+    the water inside (depth d_i = `depth`, speed u_i = `speed`); the boundary gives the one that enters,
+    R+ = U + 2 c_b, with c_b = sqrt(g d_b) of the level and U the running mean of u_i (`mean_speed`): a wave
+    arriving at the plane changes R- alone and leaves without reflection, while the mean flow keeps the depth
+    d_b at the plane. The boundary's speed is the state of the two invariants:
+
+        u_b = (R+ + R-) / 2 = (U + u_i) / 2 + c_b - c_i
+
+    (Stoker 1957, ch. 10; Verboom & Slob 1984). Water inside lower than the level draws more inflow, higher
+    less; in a steady flow u_i = U and d_i = d_b.
+
+    Parameters
+    ----------
+    level_depth : float
+        d_b, the depth the boundary holds [m] (level - bed).
+    depth, speed : float
+        d_i [m] and u_i [m/s] of the water next to the plane.
+    mean_speed : float
+        U [m/s], the running mean of u_i.
+    g : float
+        |g| [m/s^2].
+    """
+    return 0.5 * (mean_speed + speed) + math.sqrt(g * max(level_depth, 0.0)) - math.sqrt(g * max(depth, 0.0))
+
+
 def plane_coordinate(zone, dp, origin):
     """The plane's coordinate along its normal's axis, snapped to the lattice [m]."""
     a = zone.axis
     return origin[a] + round((zone.point[a] - origin[a]) / dp) * dp
 
 
-__all__ = ["OpenBoundary", "VelocityProfile", "plane_coordinate"]
+__all__ = ["OpenBoundary", "VelocityProfile", "plane_coordinate", "riemann_speed"]

@@ -10,6 +10,9 @@ particles are fluid particles to every kernel; what makes them a buffer:
 
   1. imposes the buffers' state: the velocity along the normal where the boundary imposes one (its
      tangential part zero), else the water's at the particle's mirror image across the plane (`_extrapolate`);
+     at a boundary that holds its level, the speed of the shallow-water Riemann invariant
+     (`shoal.open_boundary.riemann_speed`) from the depth and the mean speed of the water in a band next to
+     the plane (`_band_state`);
      the density of the hydrostatic pressure rho0 g (level - z), of a fixed pressure, or the water's at the
      mirror image;
   2. a buffer particle now on the domain's side of its plane becomes fluid of the domain, and a copy of it
@@ -152,10 +155,46 @@ def _extrapolate(n, pos, vel, rho, kind, zone, axis, x0, imposed, rho_extra, cel
 
 
 @njit(cache=True)
+def _in_section(pos, i, k, axis, tlo, thi):
+    """Whether row i lies within boundary k's section, its coordinates other than the normal's in [tlo, thi)."""
+    for c in range(pos.shape[1]):
+        if c != axis[k] and (pos[i, c] < tlo[k, c] or pos[i, c] >= thi[k, c]):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _band_state(n, pos, vel, rho, kind, zone, axis, sign, x0, band, tlo, thi, mass, which, out):
+    """For each boundary k with `which[k]`: out[k, 0] = sum of w V_j and out[k, 1] = sum of w V_j u_j over
+    the domain's fluid inside the section at 0 <= d < band[k] from the plane (d along the normal, u_j the
+    speed along it, V_j = mass / rho_j), with the tent weight w(d) = 4 min(d, band - d) / band^2 (unit integral
+    over the band, zero at both ends: a particle enters and leaves the sums gradually). out[k, 0] / width is
+    the water's depth next to the plane, out[k, 1] / out[k, 0] its mean speed."""
+    nz = axis.shape[0]
+    for k in range(nz):
+        out[k, 0] = 0.0
+        out[k, 1] = 0.0
+    for i in range(n):
+        if zone[i] != 0 or kind[i] != FLUID:
+            continue
+        for k in range(nz):
+            if not which[k]:
+                continue
+            d = sign[k] * (pos[i, axis[k]] - x0[k])
+            L = band[k]
+            if d < 0.0 or d >= L:
+                continue
+            if not _in_section(pos, i, k, axis, tlo, thi):
+                continue
+            w = 4.0 * min(d, L - d) / (L * L) * mass / rho[i]
+            out[k, 0] += w
+            out[k, 1] += w * sign[k] * vel[i, axis[k]]
+
+
+@njit(cache=True)
 def _classify(n, pos, kind, zone, axis, sign, x0, depth, tlo, thi, flags, spawn_src, spawn_zone):
     """Tag changes and the rows to remove or copy (module docstring, 2). Returns (spawns, removals), or
     (-1, 0) when `spawn_src` is too short (call again with a longer one)."""
-    dim = pos.shape[1]
     nz = axis.shape[0]
     s = 0
     r = 0
@@ -180,11 +219,7 @@ def _classify(n, pos, kind, zone, axis, sign, x0, depth, tlo, thi, flags, spawn_
                 d = sign[k] * (pos[i, axis[k]] - x0[k])
                 if d >= 0.0:
                     continue
-                inside = True
-                for c in range(dim):
-                    if c != axis[k] and (pos[i, c] < tlo[k, c] or pos[i, c] >= thi[k, c]):
-                        inside = False
-                if not inside:
+                if not _in_section(pos, i, k, axis, tlo, thi):
                     continue
                 if d >= -depth[k]:
                     zone[i] = k + 1
@@ -318,6 +353,18 @@ class BufferZones:
         self.p_fixed = np.array([z.pressure or 0.0 for z in self.zones], np.float64)
         self.rho_extra = np.array([z.density_mode == "extrapolated" for z in self.zones], np.bool_)
         self.level = np.array([z.level if z.level is not None else math.inf for z in self.zones], np.float64)
+        self.riemann = np.array([z.holds_level for z in self.zones], np.bool_)
+        self.imposed |= self.riemann
+        self.band = np.full(Z, 3.0 * support)
+        """Length of the band next to the plane [m] whose water gives the depth and speed of the Riemann
+        invariant (three kernel supports)."""
+        self.width = np.array([z.section_width(dim) for z in self.zones], np.float64)
+        self.level_depth = np.array([z.level - z.bed if z.holds_level else 0.0 for z in self.zones], np.float64)
+        self._band = np.zeros((Z, 2))
+        self.mean_speed = np.full(Z, math.nan)
+        """The running mean of the water's speed next to each level-holding plane [m/s] (`_hold_levels`; nan
+        until the first exchange, which starts it at the water's speed then)."""
+        self.tau = np.array([z.relaxation_time for z in self.zones], np.float64)
         self.g = float(surface_gravity)
         self.zone = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
         self.flags = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
@@ -348,10 +395,13 @@ class BufferZones:
         _hold(model.n, self.zone, model.ace, model.drho, xsph, bool(model.spec.xsph))
 
     # --------------------------------------------------------------- the step
-    def exchange(self):
-        """Impose the buffers' state, convert, create and remove particles (module docstring)."""
+    def exchange(self, dt=0.0):
+        """Impose the buffers' state, convert, create and remove particles (module docstring); `dt` [s] is the
+        step just taken (for the running means of `_hold_levels`)."""
         m = self.model
         gr = m.grid
+        if self.riemann.any():
+            self._hold_levels(dt)
         _extrapolate(m.n, m.pos, m.vel, m.rho, m.kind, self.zone, self.axis, self.x0, self.imposed, self.rho_extra,
                      gr.cell_start, gr.gdims_arr, gr.lo, 1.0 / gr.cell_size, int(m.options.cells_per_support), m.h)
         _impose(m.n, m.pos, m.vel, m.rho, self.zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
@@ -388,6 +438,30 @@ class BufferZones:
         m.n_total = n
         return s, r
 
+    def _hold_levels(self, dt):
+        """The speed of each boundary that holds its level, from the water next to its plane."""
+        from .open_boundary import riemann_speed
+
+        m = self.model
+        _band_state(m.n, m.pos, m.vel, m.rho, m.kind, self.zone, self.axis, self.sign, self.x0, self.band,
+                    self.tlo, self.thi, m.mass, self.riemann, self._band)
+        for k in np.flatnonzero(self.riemann):
+            vol, flux = self._band[k]
+            depth = vol / self.width[k]
+            speed = flux / vol if vol > 0.0 else 0.0
+            if math.isnan(self.mean_speed[k]):
+                self.mean_speed[k] = speed
+            self.mean_speed[k] += min(dt / self.tau[k], 1.0) * (speed - self.mean_speed[k])
+            self.pu[k, 0] = riemann_speed(self.level_depth[k], depth, speed, self.mean_speed[k], self.g)
+
+    def boundary_state(self, k):
+        """(depth [m], mean speed [m/s]) of the water next to boundary k's plane at the last exchange (nan for
+        a boundary that does not hold its level)."""
+        if not self.riemann[k]:
+            return math.nan, math.nan
+        vol, flux = self._band[k]
+        return vol / self.width[k], (flux / vol if vol > 0.0 else 0.0)
+
     def _arrays(self):
         """Every per-particle array once (the zone tags and flags among them)."""
         seen, out = set(), []
@@ -401,13 +475,16 @@ class BufferZones:
     def checkpoint_state(self):
         """What a checkpoint keeps besides the zone tags (an array of the model's): the next id and the
         counts."""
-        return {"next_id": int(self.next_id), "created": int(self.created), "removed": int(self.removed)}
+        return {"next_id": int(self.next_id), "created": int(self.created), "removed": int(self.removed),
+                "mean_speed": [None if math.isnan(v) else float(v) for v in self.mean_speed]}
 
     def restore_state(self, state):
         """Take `checkpoint_state`'s values back."""
         self.next_id = int(state["next_id"])
         self.created = int(state["created"])
         self.removed = int(state["removed"])
+        if "mean_speed" in state:
+            self.mean_speed[:] = [math.nan if v is None else v for v in state["mean_speed"]]
 
     # ---------------------------------------------------------------- counts
     def counts(self):

@@ -168,6 +168,10 @@ def _groups(kind, header, spec, dim=None):
                                                ("rate_slab", "instantaneous (slab 2 dp)")) if c in cols]
         if rates:
             out.append((f"flow rate{per} [{rate}]", rates))
+        if "area_slab" in cols:
+            area = "m" if dim == 2 else "m$^2$"
+            out.append((f"{'depth (wetted area per metre)' if dim == 2 else 'wetted area'} [{area}]",
+                        [(cols["area_slab"], "slab 2 dp")]))
         return out
     points = (spec or {}).get("points") or []
     panels = {"velocity": [], "p": [], "rho": []}

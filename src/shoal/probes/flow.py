@@ -18,6 +18,11 @@ measures, both over the fluid particles:
   through the slab, the SPH estimate of integral u . n dA (e.g. Monaghan 2005, Rep. Prog. Phys.
   68, 1703, section 2 for particle sums as integrals). On a lattice two layers always lie in a
   slab two spacings wide, whatever its offset, so a uniform stream is measured exactly.
+* **Wetted area** (a slab sum): A = (1 / delta) sum_j m / rho_j over the same particles -- the area of the
+  section the water fills (2D: its depth) from the particles' volumes, with no free surface to find; Q / A
+  is the section's mean velocity. Where the flow has loosened the particles' arrangement, their continuity
+  densities no longer give the space they take and A reads low: 3-5 % below the wave gauge's surface and
+  the pressure head in the reservoir of the sluice-gate case at y / dp = 30 (`shoal.validation.sluice_gate`).
 
 Units: 3D volumes [m^3] and rates [m^3/s]; 2D runs are per metre of width ([m^2], [m^2/s]).
 """
@@ -86,14 +91,16 @@ def crossings(prev, now, at, period=0.0):
 
 def slab_rate(positions, velocities, density, spec, dim, mass, dp):
     """The instantaneous volume flux Q = (1/delta) sum (m / rho_j) u_j . n through the slab of
-    width delta = 2 dp centred on the plane, within the section's extent (arrays of fluid
-    particles only) [m^3/s; 2D: m^2/s]."""
+    width delta = 2 dp centred on the plane, within the section's extent, and the wetted area
+    A = (1/delta) sum m / rho_j (arrays of fluid particles only): (Q [m^3/s; 2D: m^2/s], A [m^2;
+    2D: m])."""
     a = AXES[spec.axis]
     pos = np.asarray(positions, float).reshape(-1, 3)
     delta = 2.0 * dp
     sel = (pos[:, a] >= spec.at - 0.5 * delta) & (pos[:, a] < spec.at + 0.5 * delta) & section_mask(pos, spec, dim)
     u = np.asarray(velocities, float).reshape(-1, 3)[sel, a]
-    return float(np.sum(mass / np.asarray(density, float)[sel] * u) / delta)
+    vol = mass / np.asarray(density, float)[sel]
+    return float(np.sum(vol * u) / delta), float(np.sum(vol) / delta)
 
 
 def flow_measure(positions, velocities, density, kinds, ids, spec, dim, dp, mass, prev, n_ids, period=0.0):
@@ -125,8 +132,8 @@ def flow_measure(positions, velocities, density, kinds, ids, spec, dim, dp, mass
     crossed : int or None
         Net particles that crossed the section towards +axis since `prev` and are inside its
         extent now (None when `prev` is None).
-    rate_slab : float
-        `slab_rate` [m^3/s; 2D: m^2/s].
+    rate_slab, area_slab : float
+        `slab_rate`: the flux [m^3/s; 2D: m^2/s] and the wetted area [m^2; 2D: m].
     """
     pos = np.asarray(positions, float).reshape(-1, 3)
     fluid = np.asarray(kinds) == 0
@@ -143,14 +150,14 @@ def flow_measure(positions, velocities, density, kinds, ids, spec, dim, dp, mass
         n = crossings(prev[fid], c, spec.at, period)
         crossed = int(np.sum(n[section_mask(pos[fluid], spec, dim)]))
     vel = np.asarray(velocities, float).reshape(-1, 3)[fluid]
-    q = slab_rate(pos[fluid], vel, np.asarray(density, float)[fluid], spec, dim, mass, dp)
-    return now, crossed, q
+    q, area = slab_rate(pos[fluid], vel, np.asarray(density, float)[fluid], spec, dim, mass, dp)
+    return now, crossed, q, area
 
 
 class FlowRecorder(Recorder):
     """Samples a `FlowGauge` (`Model.flow_sample`, NumPy over the host copies of the particle
     arrays; under MPI each rank's owned particles, reduced over the ranks) and appends
-    ``time, volume, rate, rate_slab`` to ``flow_<name>.csv``.
+    ``time, volume, rate, rate_slab, area_slab`` to ``flow_<name>.csv``.
 
     Its state -- the running volume, the previous sample's time and each particle's coordinate
     along the axis (by id) -- is kept in checkpoints, so a resumed run counts on.
@@ -161,14 +168,14 @@ class FlowRecorder(Recorder):
         self.path = Path(out_dir) / f"flow_{spec.name}.csv"
         self.file = open(self.path, "w", newline="")
         self.writer = csv.writer(self.file)
-        self.writer.writerow(["time", "volume", "rate", "rate_slab"])
+        self.writer.writerow(["time", "volume", "rate", "rate_slab", "area_slab"])
         self.rows = []
         self.prev = None            # (n_ids,) coordinate along the axis at the last sample, NaN unknown
         self.volume = 0.0
         self.t_prev = math.nan
 
     def __call__(self, sim):
-        prev, crossed, q = sim.model.flow_sample(self.spec, self.prev)
+        prev, crossed, q, area = sim.model.flow_sample(self.spec, self.prev)
         self.prev = prev
         rate = math.nan
         if crossed is not None:  # None: the first sample (nothing to compare with)
@@ -177,7 +184,7 @@ class FlowRecorder(Recorder):
             if sim.time > self.t_prev:
                 rate = dv / (sim.time - self.t_prev)
         self.t_prev = float(sim.time)
-        row = [sim.time, self.volume, rate, q]
+        row = [sim.time, self.volume, rate, q, area]
         self.rows.append(row)
         self.writer.writerow([f"{v:.9g}" for v in row])
         self.file.flush()

@@ -36,15 +36,17 @@ from .registry import VALIDATION_CASES, get_cases
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .roll_decay import RollDecay
+from .sluice_gate import SluiceGate
 from .spheric_test2 import SphericTest2
 from .wave_flume import WaveFlume
+from .weir import BroadCrestedWeir
 
 __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", "CaseResult", "Metric",
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
            "FlapWaves", "FocusedWave", "HeaveDecay", "RollDecay",
            "FloatingBoxWaves",
-           "Archimedes",
+           "Archimedes", "SluiceGate", "BroadCrestedWeir",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 
 QUICK_SET_LIMIT = 600.0

@@ -18,6 +18,8 @@ from .poiseuille import Poiseuille
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .roll_decay import RollDecay
+from .sluice_gate import SluiceGate
+from .weir import BroadCrestedWeir
 from .spheric_test2 import SphericTest2
 from .wave_flume import WaveFlume
 
@@ -43,6 +45,8 @@ def all_cases():
         RollDecay(),
         FloatingBoxWaves(),
         Archimedes(),
+        SluiceGate(),
+        BroadCrestedWeir(),
     ]
 
 
