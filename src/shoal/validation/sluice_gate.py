@@ -132,7 +132,7 @@ class SluiceGate(ValidationCase):
 
     name = "sluice-gate"
     title = "Sluice gate in free flow against the contraction coefficient 0.61"
-    cost = 600.0
+    cost = 250.0
     setup = ("2D: a reservoir 0.6 m long held 0.3 m deep by an open boundary that holds its level "
              "(`velocity_mode = \"riemann\"`, running mean over 3 s) drains under a vertical gate with a sharp "
              "lip (a flat 1.25 dp long, a 45-degree bevel downstream) a above a free-slip bed, into a "

@@ -79,7 +79,7 @@ class BroadCrestedWeir(ValidationCase):
 
     name = "weir"
     title = "Broad-crested weir against critical-flow theory"
-    cost = 300.0
+    cost = 110.0
     setup = ("2D: a reservoir 0.6 m long held 0.2 m deep by an open boundary that holds its level "
              "(`velocity_mode = \"riemann\"`, running mean over 3 s) spills over a weir 0.1 m high (a 1:2 ramp, "
              "a flat crest 0.4 m long, H / L about 0.25) off whose end the water falls out of the flume; "
