@@ -74,28 +74,40 @@ def read_record(path):
     return {h: rows[:, k] for k, h in enumerate(head)}
 
 
+def window_flow(record, window):
+    """(mean discharge, mean wetted area) of a flow gauge's `record` (`read_record`) over `window` [s]: the
+    counted volume's change over the window divided by its length, and the mean of ``area_slab``."""
+    t0, t1 = window
+    vol = np.interp([t0, t1], record["time"], record["volume"])
+    sel = (record["time"] >= t0) & (record["time"] <= t1)
+    return float((vol[1] - vol[0]) / (t1 - t0)), float(np.mean(record["area_slab"][sel]))
+
+
+def window_level(record, window):
+    """The mean of a wave gauge's `record` (`read_record`) over `window` [s]."""
+    sel = (record["time"] >= window[0]) & (record["time"] <= window[1])
+    return float(np.mean(record["level"][sel]))
+
+
+def smoothed_rate(t, volume, samples=10):
+    """(times, discharge) from a flow gauge's counted volume, differenced over `samples` samples (a particle's
+    volume is a step)."""
+    t, v = np.asarray(t), np.asarray(volume)
+    return 0.5 * (t[samples:] + t[:-samples]), (v[samples:] - v[:-samples]) / (t[samples:] - t[:-samples])
+
+
 def steady_measures(run_dir, a, window=WINDOW):
     """What a sluice-gate run gives over the steady `window` [s]: the discharge q past the gate and through the
     reservoir (the counted volume's change over the window divided by its length), the mean depths y1 upstream
     and y2 of the jet (wave gauges; `DEPTH_MEASURE`), and from them Cd = q / (a sqrt(2 g y1)) and the
     contraction y2 / a; also the flow gauges' wetted areas (``area_upstream``, ``area_downstream``)."""
     run = Path(run_dir)
-    t0, t1 = window
     out = {}
     for name in ("upstream", "downstream"):
-        f = read_record(run / f"flow_{name}.csv")
-        vol = np.interp([t0, t1], f["time"], f["volume"])
-        out[f"q_{name}"] = float((vol[1] - vol[0]) / (t1 - t0))
-        sel = (f["time"] >= t0) & (f["time"] <= t1)
-        out[f"area_{name}"] = float(np.mean(f["area_slab"][sel]))
-
-    def mean_level(name):
-        f = read_record(run / f"gauge_{name}.csv")
-        sel = (f["time"] >= t0) & (f["time"] <= t1)
-        return float(np.mean(f["level"][sel]))
-
-    out["y1"] = mean_level("y1")
-    out["y2"] = 0.5 * (mean_level("jet3a") + mean_level("jet5a"))
+        out[f"q_{name}"], out[f"area_{name}"] = window_flow(read_record(run / f"flow_{name}.csv"), window)
+    level = {name: window_level(read_record(run / f"gauge_{name}.csv"), window) for name in ("y1", "jet3a", "jet5a")}
+    out["y1"] = level["y1"]
+    out["y2"] = 0.5 * (level["jet3a"] + level["jet5a"])
     out["cd"] = out["q_downstream"] / (a * math.sqrt(2 * G * out["y1"]))
     out["cc"] = out["y2"] / a
     out["cd_theory"] = free_flow_discharge_coefficient(a, out["y1"])
@@ -189,9 +201,7 @@ class SluiceGate(ValidationCase):
             line, = ax1.plot(rec["t"], np.array(rec["y1"]) / UPSTREAM_DEPTH, lw=1, label=f"y1 / y0, a = {a:g} m")
             ax1.plot(rec["t"], np.array(rec["y2"]) / (CC * a), lw=1, ls="--", color=line.get_color(),
                      label=f"y2 / (0.61 a), a = {a:g} m")
-            tq, v = np.array(rec["tq"]), np.array(rec["volume"])
-            q = (v[10:] - v[:-10]) / (tq[10:] - tq[:-10])  # over 10 samples: a particle's volume is a step
-            tq = 0.5 * (tq[10:] + tq[:-10])
+            tq, q = smoothed_rate(rec["tq"], rec["volume"])
             y1 = float(np.interp(0.5 * sum(WINDOW), rec["t"], rec["y1"]))
             ax2.plot(tq, q / (free_flow_discharge_coefficient(a, m["y1"]) * a * math.sqrt(2 * G * m["y1"])), lw=0.8,
                      color=line.get_color(), label=f"a = {a:g} m (y1 at mid-window {y1:.3f} m)")

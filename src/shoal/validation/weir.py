@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .core import Metric, ValidationCase, figure, save_png
-from .sluice_gate import read_record, run_timed
+from .sluice_gate import read_record, run_timed, smoothed_rate, window_flow, window_level
 
 G = 9.81
 C_IDEAL = (2.0 / 3.0) ** 1.5 / math.sqrt(2.0)
@@ -53,18 +53,11 @@ def steady_measures(run_dir, weir_height=WEIR_HEIGHT, window=WINDOW):
     `shoal.validation.sluice_gate.DEPTH_MEASURE`; the flow gauges' wetted areas beside them), the energy head
     H = h1 - P + (q / h1)^2 / (2 g) and C = q / (sqrt(2 g) H^(3/2))."""
     run = Path(run_dir)
-    t0, t1 = window
     out = {}
     for name in ("crest", "reservoir"):
-        f = read_record(run / f"flow_{name}.csv")
-        vol = np.interp([t0, t1], f["time"], f["volume"])
-        out[f"q_{name}"] = float((vol[1] - vol[0]) / (t1 - t0))
-        sel = (f["time"] >= t0) & (f["time"] <= t1)
-        out[f"depth_{name}"] = float(np.mean(f["area_slab"][sel]))
+        out[f"q_{name}"], out[f"depth_{name}"] = window_flow(read_record(run / f"flow_{name}.csv"), window)
     for name in ("h1", "crest_mid"):
-        f = read_record(run / f"gauge_{name}.csv")
-        sel = (f["time"] >= t0) & (f["time"] <= t1)
-        out[f"{name}_surface"] = float(np.mean(f["level"][sel]))
+        out[f"{name}_surface"] = window_level(read_record(run / f"gauge_{name}.csv"), window)
     q, h1 = out["q_crest"], out["h1_surface"]
     out["h1"] = h1
     out["head"] = h1 - weir_height + (q / h1) ** 2 / (2 * G)
@@ -132,9 +125,7 @@ class BroadCrestedWeir(ValidationCase):
         ax1, ax2 = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
         ax1.plot(d["t"], d["h1"], "k-", lw=1)
         ax1.set_ylabel("h1 [m]")
-        tq, v = np.array(d["tq"]), np.array(d["volume"])
-        q = (v[10:] - v[:-10]) / (tq[10:] - tq[:-10])  # over 10 samples: a particle's volume is a step
-        tq = 0.5 * (tq[10:] + tq[:-10])
+        tq, q = smoothed_rate(d["tq"], d["volume"])
         h1 = np.interp(tq, d["t"], d["h1"])
         head = h1 - WEIR_HEIGHT + (q / h1) ** 2 / (2 * G)
         ax2.plot(tq, q / (C_IDEAL * np.sqrt(2 * G) * np.clip(head, 1e-6, None) ** 1.5), "k-", lw=0.8)
