@@ -32,8 +32,8 @@ LAYERS = [
      "shoal.relaxation", "shoal.analysis", "shoal.output",
      "shoal.memory",
      "shoal.simulation.resources",
-     "shoal.parallel.decomposition", "shoal.parallel.gpu", "shoal.particle_store", "shoal.open_boundary",
-     "shoal.particle_buffers"],
+     "shoal.parallel.decomposition", "shoal.parallel.gpu", "shoal.particle_store", "shoal.time_series",
+     "shoal.open_boundary", "shoal.particle_buffers"],
     # 2: cases as data
     ["shoal.probes", "shoal.case", "shoal.casefile", "shoal.cases", "shoal.advice"],
     # 3: the model of particles and scheme

@@ -14,6 +14,7 @@ from shoal.open_boundary import OpenBoundary
 from shoal.options import SPHOptions
 from shoal.physics.spec import FLUID
 from shoal.probes import FlowGauge
+from shoal.time_series import TimeSeries
 
 DEPTH, LENGTH = 0.2, 2.0
 SECTIONS = (0.5, 1.0, 1.5)
@@ -30,7 +31,7 @@ def channel(dp=0.02, speed=0.2, end_time=4.0, length=LENGTH, output=None, **inle
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(length, 0, DEPTH)), velocity=(speed, 0, 0))],
                 open_boundaries=[
                     OpenBoundary(name="in", point=(0, 0, 0), normal=(1, 0, 0), lo=(0, 0, 0), hi=(0, 0, 2 * DEPTH),
-                                 level=DEPTH, **ib),
+                                 **({"level": DEPTH} | ib)),
                     OpenBoundary(name="out", point=(length, 0, 0), normal=(-1, 0, 0), lo=(length, 0, 0),
                                  hi=(length, 0, 2 * DEPTH), level=DEPTH)],
                 output=Output(interval=output or end_time))
@@ -190,13 +191,17 @@ def test_shoal_check_reports_the_inflow_and_the_growth():
            "water inside" in text
 
 
-@pytest.mark.parametrize("inlet", [{}, dict(velocity_mode="riemann", relaxation_time=0.02)], ids=["velocity", "level"])
+@pytest.mark.parametrize("inlet", [{}, dict(velocity_mode="riemann", relaxation_time=0.02),
+                                   dict(velocity_mode="riemann", relaxation_time=0.02,
+                                        level=TimeSeries(t=[0.0, 0.06], value=[DEPTH, DEPTH + 0.05]))],
+                         ids=["velocity", "level", "rising-level"])
 def test_stop_and_resume_while_particles_are_created_is_bitwise(tmp_path, inlet):
     """Issue 33, must-show 6 (CPU): the channel run to 0.06 s in one go, and to 0.03 s then resumed from its
     checkpoint to 0.06 s, while the inlet creates and the outlet removes particles (the count and the arrays'
     rows change between the two halves): the same particles (ids), positions, velocities and densities, bit
     for bit, and the same counts of created and removed particles. Also with an inlet that holds its level,
-    whose running mean of the speed (over 0.02 s here, so that it moves) is in the checkpoint."""
+    whose running mean of the speed (over 0.02 s here, so that it moves) is in the checkpoint, and with that
+    level rising 0.05 m in the 0.06 s (a row added to the buffer before the stop, one after)."""
     import shoal
 
     full = shoal.run_case(channel(end_time=0.06, length=1.0, output=0.01, **inlet), tmp_path / "full", plot=False,

@@ -712,6 +712,11 @@ class Case(BaseModel):
         support = 2.0 * self.smoothing_length
         add, zones, vels = [], [], []
         for k, ob in enumerate(self.open_boundaries):
+            bounds = ob.level_bounds(0.0, self.end_time)
+            if bounds is not None and bounds[0] <= ob.bed:
+                raise InputError(f"open boundary {ob.name!r}: its level falls to {bounds[0]:g} m by t = "
+                                 f"{self.end_time:g} s, not above the bottom of its section ({ob.bed:g} m): keep the "
+                                 "level above it (or lower the section's lo)")
             try:
                 pts = ob.buffer_lattice(self.dim, self.dp, np.asarray(self.lattice_origin, float), support)
             except ValueError as err:
@@ -797,6 +802,14 @@ class Case(BaseModel):
         except ValueError as err:
             raise InputError(str(err)) from None
         return self
+
+    def sampled(self):
+        """The case with the open boundaries' series given as Python functions replaced by their tables over
+        [0, end_time] (`shoal.time_series.TimeSeries.sampled`): what a run runs and writes."""
+        obs = [ob.sampled(0.0, self.end_time) for ob in self.open_boundaries]
+        if all(a is b for a, b in zip(obs, self.open_boundaries)):
+            return self
+        return self.model_copy(update={"open_boundaries": obs})
 
     def resolved(self):
         """The case as a plain dict with every default filled in (what

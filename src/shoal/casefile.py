@@ -112,8 +112,8 @@ def _path(loc):
             if parent in _TAGGED and item in _TAGGED[parent]:
                 prev = item
                 continue  # the union's tag pydantic puts in the path
-            if item.startswith("function-") or item in ("tagged-union",):
-                continue
+            if item.startswith("function-") or item in ("tagged-union", "float", "TimeSeries"):
+                continue  # pydantic's names of validators and of a union's branches (a number or a series)
             out += ("." if out else "") + item
         prev = item
     return out or "(top level)"
@@ -187,9 +187,23 @@ def _short(v, n=60):
     return r if len(r) <= n else r[: n - 3] + "..."
 
 
+_SCALAR_ERRORS = ("float_type", "int_type", "float_parsing", "int_parsing", "bool_type", "bool_parsing",
+                  "string_type")
+_TABLE_ERRORS = ("model_type", "model_attributes_type", "dict_type", "dataclass_type")
+
+
+def _branch_errors(errors):
+    """The errors of the branch of a union (a number or a table: `shoal.time_series.TimeSeries`) that the input
+    was meant for: a table's errors when a table was given, a number's when a number or a string was."""
+    out = [e for e in errors if not (isinstance(e.get("input"), dict) and e["type"] in _SCALAR_ERRORS)]
+    if len(out) > 1:
+        out = [e for e in out if not (e["type"] in _TABLE_ERRORS and not isinstance(e.get("input"), dict))] or out
+    return out or errors
+
+
 def format_validation_error(err):
     """One line for the first error of a pydantic ValidationError."""
-    errors = err.errors()
+    errors = _branch_errors(err.errors())
     e = errors[0]
     loc = tuple(e["loc"])
     path = _path(loc)

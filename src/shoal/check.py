@@ -81,19 +81,30 @@ def open_boundary_lines(case):
         head = f"  open boundary {ob.name}: {where}, buffer {n_buf} particles in {ob.buffer_layers(support, case.dp)} rows"
         z = p.positions[p.zone == k, 2]
         u = ob.speed(z, case.dim)
+        level = ob.level_bounds(0.0, case.end_time)
+        if level is not None and level[0] != level[1]:
+            head += f"; level from {level[0]:g} to {level[1]:g} m over the run (a time series)"
         if ob.holds_level:
-            lines.append(head + f"; holds the level {ob.level:g} m (velocity from the Riemann invariant, mean over "
+            held = f"{level[0]:g} m" if level[0] == level[1] else "it"
+            lines.append(head + f"; holds {held} (velocity from the Riemann invariant, mean over "
                                 f"{ob.relaxation_time:g} s): its inflow is what the flow draws, not known before the run")
             continue
         if u is None:
             lines.append(head + "; velocity from the water inside (an outlet)")
             continue
-        cells = n_buf / ob.buffer_layers(support, case.dp)  # particles in one row of the section
-        rate = float(np.mean(u)) * cells / case.dp  # particles a second through the plane
-        q = float(np.mean(u)) * ob.wet_area(case.dim)
+        # the largest inflow of the run: a series' largest speed or discharge over the widest wet section
+        top = level[1] if level is not None else None
+        wet = ob.model_copy(update={"level": top}).wet_area(case.dim) if top is not None else ob.wet_area(case.dim)
+        inflow = ob.inflow_bounds(0.0, case.end_time)
+        if inflow is None:
+            q = float(np.mean(u)) * ob.wet_area(case.dim)
+        else:
+            q = inflow[1] * (wet if ob.velocity is not None else 1.0)
+        rate = q / case.dp ** case.dim  # particles a second through the plane
         unit = "m^2/s" if case.dim == 2 else "m^3/s"
         more = rate * case.end_time
-        lines.append(head + f"; inflow {q:.4g} {unit} ({rate:.4g} particles/s): at most {more:,.0f} more particles "
+        what = "inflow" if inflow is None or inflow[0] == inflow[1] else "largest inflow"
+        lines.append(head + f"; {what} {q:.4g} {unit} ({rate:.4g} particles/s): at most {more:,.0f} more particles "
                             f"by t = {case.end_time:g} s, {more * per / 2**20:.3g} MiB more memory if none leaves")
     return lines
 

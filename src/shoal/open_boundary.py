@@ -16,6 +16,9 @@ take part in every pair term as fluid, but their own state is imposed, not integ
   mirror image inside (``"extrapolated"``, the default without a level), or that of a fixed `pressure`
   (``"fixed"``).
 
+The velocity, the discharge and the level may each be a `shoal.time_series.TimeSeries` (a hydrograph, a
+tide): a buffer whose level changes is filled to the level of the moment.
+
 Each step (as DualSPHysics's inlet/outlet zones, Tafuni et al. 2018): a buffer particle that crosses the plane
 into the domain becomes fluid and a new buffer particle is created `layers` dp behind it (the buffer refills
 from its back); a fluid particle that crosses the plane out of the domain becomes a buffer particle; a
@@ -53,6 +56,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from .geometry.shapes import Real, Spec, Vec3
+from .time_series import TimeSeries, value_at, value_bounds
 
 
 class VelocityProfile(Spec):
@@ -86,15 +90,18 @@ class OpenBoundary(Spec):
         The section: the part of the plane between them (the components along the normal are ignored) [m].
     layers : int, optional
         Rows of buffer particles; default: enough to cover the kernel support 2h.
-    velocity : float, optional
-        Speed along the normal [m/s], positive into the domain.
+    velocity : float or TimeSeries, optional
+        Speed along the normal [m/s], positive into the domain; a `shoal.time_series.TimeSeries` for one that
+        changes in time (a ramp, a hydrograph).
     profile : VelocityProfile, optional
         u(z) along the normal instead of one speed.
-    discharge : float, optional
+    discharge : float or TimeSeries, optional
         Q [m^3/s; 2D: m^2/s] into the domain, spread uniformly over the wet section (below `level`).
-    level : float, optional
+    level : float or TimeSeries, optional
         Height of the water's surface at the boundary [m]: the buffer holds particles below it and its density
-        is hydrostatic from it. Without it the whole section is wet (a submerged boundary).
+        is hydrostatic from it. Without it the whole section is wet (a submerged boundary). A level that changes
+        in time (a tide) fills the buffer to the level of the moment: a row is added where the level stands a
+        dp above the buffer's top row, the particles more than dp/2 above it are removed.
     density : {"hydrostatic", "extrapolated", "fixed"}
         Default: "hydrostatic" with a level, "fixed" with a `pressure`, else "extrapolated".
     pressure : float, optional
@@ -115,10 +122,10 @@ class OpenBoundary(Spec):
     lo: Vec3
     hi: Vec3
     layers: Annotated[int, Field(ge=1, le=20, strict=True)] | None = None
-    velocity: Real | None = None
+    velocity: Real | TimeSeries | None = None
     profile: VelocityProfile | None = None
-    discharge: Real | None = None
-    level: Real | None = None
+    discharge: Real | TimeSeries | None = None
+    level: Real | TimeSeries | None = None
     density: Literal["hydrostatic", "extrapolated", "fixed"] | None = None
     pressure: Real | None = None
     velocity_mode: Literal["extrapolated", "riemann"] | None = None
@@ -142,7 +149,8 @@ class OpenBoundary(Spec):
         if self.velocity_mode == "riemann" and self.level is None:
             raise ValueError('velocity_mode = "riemann" holds a level: give the level of the water at the boundary '
                              '(level = ...)')
-        if self.velocity_mode == "riemann" and self.level <= min(self.lo[2], self.hi[2]):
+        if (self.velocity_mode == "riemann" and not isinstance(self.level, TimeSeries)
+                and self.level <= min(self.lo[2], self.hi[2])):
             raise ValueError(f'velocity_mode = "riemann": level = {self.level:g} m is not above the bottom of the '
                              f'section ({min(self.lo[2], self.hi[2]):g} m, the bed there)')
         if self.discharge is not None and self.level is None:
@@ -183,6 +191,31 @@ class OpenBoundary(Spec):
         return self.velocity_mode == "riemann"
 
     @property
+    def varies(self):
+        """True when the velocity, the discharge or the level is a `TimeSeries`."""
+        return any(isinstance(v, TimeSeries) for v in (self.velocity, self.discharge, self.level))
+
+    def level_at(self, t):
+        """The level at time t [m], or None."""
+        return value_at(self.level, t)
+
+    def level_bounds(self, t0, t1):
+        """(lowest, highest) level over [t0, t1] [s], or None without a level."""
+        return None if self.level is None else value_bounds(self.level, t0, t1)
+
+    def inflow_bounds(self, t0, t1):
+        """(smallest, largest) imposed velocity or discharge over [t0, t1], or None (a profile or none)."""
+        v = self.velocity if self.velocity is not None else self.discharge
+        return None if v is None else value_bounds(v, t0, t1)
+
+    def sampled(self, t0, t1):
+        """The boundary with each series given as a function replaced by its table over [t0, t1]
+        (`shoal.time_series.TimeSeries.sampled`)."""
+        update = {k: v.sampled(t0, t1) for k in ("velocity", "discharge", "level")
+                  if isinstance(v := getattr(self, k), TimeSeries) and v.function is not None}
+        return self.model_copy(update=update) if update else self
+
+    @property
     def bed(self):
         """The bottom of the section [m], the bed under a boundary that holds a level."""
         return float(min(self.lo[2], self.hi[2]))
@@ -208,33 +241,34 @@ class OpenBoundary(Spec):
             lo[1], hi[1] = -math.inf, math.inf
         return lo, hi
 
-    def wet_top(self, dim):
-        """The top of the wet section [m]: the level, or the section's top."""
+    def wet_top(self, dim, t=0.0):
+        """The top of the wet section at time t [m]: the level, or the section's top."""
         top = max(self.lo[2], self.hi[2])
-        return min(top, self.level) if self.level is not None else top
+        return min(top, self.level_at(t)) if self.level is not None else top
 
-    def speed(self, z, dim):
-        """The imposed speed along the normal [m/s] at heights `z` (array), or None (not imposed)."""
+    def speed(self, z, dim, t=0.0):
+        """The imposed speed along the normal [m/s] at heights `z` (array) at time t [s], or None (not
+        imposed)."""
         z = np.asarray(z, float)
         if self.velocity is not None:
-            return np.full(z.shape, float(self.velocity))
+            return np.full(z.shape, float(value_at(self.velocity, t)))
         if self.profile is not None:
             return np.interp(z, self.profile.z, self.profile.u)
         if self.discharge is not None:
-            return np.full(z.shape, float(self.discharge) / self.wet_area(dim))
+            return np.full(z.shape, float(value_at(self.discharge, t)) / self.wet_area(dim, t))
         return None
 
-    def wet_area(self, dim):
-        """Area of the section below the level [m^2; 2D: m]."""
+    def wet_area(self, dim, t=0.0):
+        """Area of the section below the level at time t [m^2; 2D: m]."""
         lo, hi = np.minimum(self.lo, self.hi), np.maximum(self.lo, self.hi)
-        height = self.wet_top(dim) - lo[2]
+        height = max(self.wet_top(dim, t) - lo[2], 0.0)
         if dim == 2:
             return height
         t = 1 - self.axis  # the horizontal tangent
         return height * (hi[t] - lo[t])
 
-    def buffer_lattice(self, dim, dp, origin, support):
-        """The buffer's particles at the start: lattice nodes origin + (i + 1/2) dp behind the plane, `layers`
+    def buffer_lattice(self, dim, dp, origin, support, t=0.0):
+        """The buffer's particles at time t: lattice nodes origin + (i + 1/2) dp behind the plane, `layers`
         rows deep, inside the section and below the level.
 
         Returns
@@ -263,7 +297,7 @@ class OpenBoundary(Spec):
             if b == a:
                 coords.append(normal_coords)
                 continue
-            top = self.wet_top(dim) if b == 2 else hi[b]
+            top = self.wet_top(dim, t) if b == 2 else hi[b]
             i0 = math.ceil((lo[b] - origin[b]) / dp - 0.5 - 1e-9)
             i1 = math.floor((top - origin[b]) / dp - 0.5 - 1e-9)
             coords.append(origin[b] + (np.arange(i0, i1 + 1) + 0.5) * dp)

@@ -16,10 +16,14 @@ particles are fluid particles to every kernel; what makes them a buffer:
      the density of the hydrostatic pressure rho0 g (level - z), of a fixed pressure, or the water's at the
      mirror image;
   2. a buffer particle now on the domain's side of its plane becomes fluid of the domain, and a copy of it
-     is created `layers` dp further back, in the buffer (the buffer refills from its back end); a particle of
+     is created `layers` dp further back, in the buffer (the buffer refills from its back end), unless a
+     particle of the buffer is already within dp/2 of that place (`_clear_spawns`: after the flow has turned,
+     the buffer's back holds water that came out of the domain); a particle of
      the domain now behind an open boundary's plane (within its section) joins that buffer; a buffer particle
      past the buffer's far end is removed;
-  3. the new particles are appended (the arrays grow when needed, `ParticleStore.ensure`), each with a new
+  3. a boundary whose level is a time series fills its buffer to the level of the moment
+     (`BufferZones._follow_levels`);
+  4. the new particles are appended (the arrays grow when needed, `ParticleStore.ensure`), each with a new
      id (ids are never reused: `next_id`), and the removed rows are filled from the end (`_move_rows`).
 
 The rows change order; the next sort puts them back in cell order. A one-process CPU run does this in place
@@ -36,8 +40,11 @@ import numpy as np
 from numba import njit
 
 from .physics.spec import FLUID
+from .time_series import TimeSeries
 
 GAMMA = 7.0
+SPAWN_GAP = 0.5
+"""A copy is not created within this many dp of a particle already in its buffer (`_clear_spawns`)."""
 
 
 @njit(cache=True)
@@ -172,8 +179,8 @@ def _band_state(n, pos, vel, rho, kind, zone, axis, sign, x0, band, tlo, thi, ma
     the water's depth next to the plane, out[k, 1] / out[k, 0] its mean speed."""
     nz = axis.shape[0]
     for k in range(nz):
-        out[k, 0] = 0.0
-        out[k, 1] = 0.0
+        for c in range(out.shape[1]):
+            out[k, c] = 0.0
     for i in range(n):
         if zone[i] != 0 or kind[i] != FLUID:
             continue
@@ -228,6 +235,118 @@ def _classify(n, pos, kind, zone, axis, sign, x0, depth, tlo, thi, flags, spawn_
                     r += 1
                 break
     return s, r
+
+
+@njit(cache=True)
+def _trim(n, pos, zone, flags, k, limit):
+    """Flag for removal the rows of boundary k's buffer above height `limit`; returns their count."""
+    dim = pos.shape[1]
+    r = 0
+    for i in range(n):
+        if zone[i] == k + 1 and flags[i] == 0 and pos[i, dim - 1] > limit:
+            flags[i] = 1
+            r += 1
+    return r
+
+
+@njit(cache=True)
+def _column(pos, i, tcol, t0, dp, ncol):
+    """The lattice column (along the section's horizontal tangent, 3D) of row i; 0 in 2D."""
+    if tcol < 0:
+        return 0
+    c = int(math.floor((pos[i, tcol] - t0) / dp))
+    return min(max(c, 0), ncol - 1)
+
+
+@njit(cache=True)
+def _top_rows(n, pos, zone, flags, k, level, dp, tcol, t0, ztop, src, kz, s0):
+    """Append to `src` (from s0 on) the rows of boundary k's buffer in the top row of each lattice column
+    whose top row stands at least dp below `level` (their copies a dp higher fill the buffer up to the level).
+    Returns the new length of `src`, or -1 when it is too short."""
+    dim = pos.shape[1]
+    ncol = ztop.shape[0]
+    for c in range(ncol):
+        ztop[c] = -math.inf
+    for i in range(n):
+        if zone[i] == k + 1 and flags[i] == 0:
+            c = _column(pos, i, tcol, t0, dp, ncol)
+            ztop[c] = max(ztop[c], pos[i, dim - 1])
+    s = s0
+    for i in range(n):
+        if zone[i] != k + 1 or flags[i] != 0:
+            continue
+        c = _column(pos, i, tcol, t0, dp, ncol)
+        if ztop[c] + dp <= level and pos[i, dim - 1] >= ztop[c] - 0.5 * dp:
+            if s >= src.shape[0]:
+                return -1
+            src[s] = i
+            kz[s] = k
+            s += 1
+    return s
+
+
+@njit(cache=True)
+def _place_lifted(pos, zone, flags, idp, kz, dst0, count, dp, first_id):
+    """The copies of top rows, `count` rows from `dst0` on: a dp higher, tagged, kept, numbered."""
+    dim = pos.shape[1]
+    for j in range(count):
+        i = dst0 + j
+        pos[i, dim - 1] += dp
+        zone[i] = kz[j] + 1
+        flags[i] = 0
+        idp[i] = first_id + j
+
+
+@njit(cache=True)
+def _clear_spawns(count, pos, zone, src, kz, axis, sign, depth, gap, cell_start, gdims, glo, inv_cs):
+    """Drop the copies (module docstring, 2) that would land within `gap` of a particle already in their
+    buffer: after the flow through a plane has turned, the buffer's back holds water that came out of the domain,
+    not the lattice the copies continue, and a copy on top of one of those particles would be thrown out by the
+    pressure between them. Keeps the others in order in src / kz; returns their count. The rows searched are
+    those of the last sort (`cell_start`), each within a cell of where it was then."""
+    dim = pos.shape[1]
+    nx, ny, nz = gdims[0], gdims[1], gdims[2]
+    gap2 = gap * gap
+    kept = 0
+    for j in range(count):
+        i = src[j]
+        k = kz[j]
+        tx = pos[i, 0]
+        ty = pos[i, 1] if dim == 3 else 0.0
+        tz = pos[i, dim - 1]
+        if axis[k] == 0:
+            tx -= sign[k] * depth[k]
+        else:
+            ty -= sign[k] * depth[k]
+        ix = min(max(int((tx - glo[0]) * inv_cs), 0), nx - 1)
+        if dim == 3:
+            iy = min(max(int((ty - glo[1]) * inv_cs), 0), ny - 1)
+            iz = min(max(int((tz - glo[2]) * inv_cs), 0), nz - 1)
+        else:
+            iy = 0
+            iz = min(max(int((tz - glo[1]) * inv_cs), 0), nz - 1)
+        clash = False
+        for zz in range(max(iz - 1, 0), min(iz + 1, nz - 1) + 1):
+            for yy in range(max(iy - 1, 0), min(iy + 1, ny - 1) + 1):
+                row = nx * (yy + ny * zz)
+                for q in range(cell_start[row + max(ix - 1, 0)], cell_start[row + min(ix + 1, nx - 1) + 1]):
+                    if zone[q] != k + 1:
+                        continue
+                    dx = tx - pos[q, 0]
+                    dz = tz - pos[q, dim - 1]
+                    dy = ty - pos[q, 1] if dim == 3 else 0.0
+                    if dx * dx + dy * dy + dz * dz < gap2:
+                        clash = True
+                        break
+                if clash:
+                    break
+            if clash:
+                break
+        if not clash:
+            src[kept] = i
+            kz[kept] = k
+            kept += 1
+    return kept
 
 
 @njit(cache=True)
@@ -348,18 +467,33 @@ class BufferZones:
                 if u is not None:
                     self.pu[k, 0] = u[0]
                     self.imposed[k] = True
+        self.varies = [k for k, z in enumerate(self.zones) if z.varies]
+        """The boundaries whose velocity, discharge or level is a `shoal.time_series.TimeSeries`."""
+        self.follows = [k for k, z in enumerate(self.zones) if isinstance(z.level, TimeSeries)]
+        """The boundaries whose buffer is filled to a level that changes in time (`_follow_levels`)."""
+        self._columns = {}
+        for k in self.follows:
+            z = self.zones[k]
+            if dim == 2:
+                self._columns[k] = (-1, 0.0, np.zeros(1))
+            else:
+                t = 1 - z.axis  # the section's horizontal tangent (x or y, also the internal column)
+                lo, hi = sorted((z.lo[t], z.hi[t]))
+                t0 = origin[t] + math.floor((lo - origin[t]) / model.dp) * model.dp
+                self._columns[k] = (t, t0, np.zeros(int(math.ceil((hi - t0) / model.dp)) + 1))
         self.hydro = np.array([z.density_mode == "hydrostatic" for z in self.zones], np.bool_)
         self.fixed = np.array([z.density_mode == "fixed" for z in self.zones], np.bool_)
         self.p_fixed = np.array([z.pressure or 0.0 for z in self.zones], np.float64)
         self.rho_extra = np.array([z.density_mode == "extrapolated" for z in self.zones], np.bool_)
-        self.level = np.array([z.level if z.level is not None else math.inf for z in self.zones], np.float64)
+        self.level = np.array([z.level_at(0.0) if z.level is not None else math.inf for z in self.zones], np.float64)
         self.riemann = np.array([z.holds_level for z in self.zones], np.bool_)
         self.imposed |= self.riemann
         self.band = np.full(Z, 3.0 * support)
         """Length of the band next to the plane [m] whose water gives the depth and speed of the Riemann
         invariant (three kernel supports)."""
         self.width = np.array([z.section_width(dim) for z in self.zones], np.float64)
-        self.level_depth = np.array([z.level - z.bed if z.holds_level else 0.0 for z in self.zones], np.float64)
+        self.level_depth = np.array([z.level_at(0.0) - z.bed if z.holds_level else 0.0 for z in self.zones],
+                                    np.float64)
         self._band = np.zeros((Z, 2))
         self.mean_speed = np.full(Z, math.nan)
         """The running mean of the water's speed next to each level-holding plane [m/s] (`_hold_levels`; nan
@@ -395,11 +529,14 @@ class BufferZones:
         _hold(model.n, self.zone, model.ace, model.drho, xsph, bool(model.spec.xsph))
 
     # --------------------------------------------------------------- the step
-    def exchange(self, dt=0.0):
+    def exchange(self, dt=0.0, t=0.0):
         """Impose the buffers' state, convert, create and remove particles (module docstring); `dt` [s] is the
-        step just taken (for the running means of `_hold_levels`)."""
+        step just taken (for the running means of `_hold_levels`), `t` [s] the time now (for the quantities
+        that change in time, `_follow_series`)."""
         m = self.model
         gr = m.grid
+        if self.varies:
+            self._follow_series(t)
         if self.riemann.any():
             self._hold_levels(dt)
         _extrapolate(m.n, m.pos, m.vel, m.rho, m.kind, self.zone, self.axis, self.x0, self.imposed, self.rho_extra,
@@ -415,6 +552,9 @@ class BufferZones:
             self._spawn_src = np.zeros(2 * len(self._spawn_src), np.int64)  # rare: more crossings than room
             self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
         if s:
+            s = _clear_spawns(s, m.pos, self.zone, self._spawn_src, self._spawn_zone, self.axis, self.sign,
+                              self.depth, SPAWN_GAP * m.dp, gr.cell_start, gr.gdims_arr, gr.lo, 1.0 / gr.cell_size)
+        if s:
             m.store.ensure(n + s)
             arrays = self._arrays()
             for a in arrays:
@@ -425,6 +565,9 @@ class BufferZones:
             self.next_id += s
             self.created += s
             n += s
+        if self.follows:
+            r, lifted = self._follow_levels(n, r)
+            n += lifted
         if r:
             if len(self._holes) < r:
                 self._holes = np.zeros(2 * r, np.int64)
@@ -437,6 +580,56 @@ class BufferZones:
         m.n = n
         m.n_total = n
         return s, r
+
+    def _follow_series(self, t):
+        """The imposed speed, level and level-held depth of the boundaries given as time series, at time t."""
+        dim = self.model.dim
+        for k in self.varies:
+            z = self.zones[k]
+            if z.level is not None:
+                self.level[k] = z.level_at(t)
+                if z.holds_level:
+                    self.level_depth[k] = self.level[k] - z.bed
+            if z.profile is None and not z.holds_level:
+                u = z.speed(np.zeros(1), dim, t)
+                if u is not None:
+                    self.pu[k, 0] = u[0]
+
+    def _follow_levels(self, n, r):
+        """Fill the buffers of the boundaries with a level that changes in time up to the level: the rows more
+        than dp/2 above it are flagged for removal, and where the level stands a dp or more above a column's top
+        row a copy of that row is appended a dp higher (new ids). Takes and returns the count of flagged rows,
+        and returns the rows appended (at n, with their imposed state)."""
+        m = self.model
+        dp = m.dp
+        for k in self.follows:
+            r += _trim(n, m.pos, self.zone, self.flags, k, self.level[k] + 0.5 * dp)
+        total = 0
+        while True:
+            s = 0
+            for k in self.follows:
+                tcol, t0, ztop = self._columns[k]
+                s = _top_rows(n + total, m.pos, self.zone, self.flags, k, self.level[k], dp, tcol, t0, ztop,
+                              self._spawn_src, self._spawn_zone, s)
+                if s < 0:
+                    break
+            if s < 0:
+                self._spawn_src = np.zeros(2 * len(self._spawn_src), np.int64)
+                self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
+                continue
+            if not s:
+                break
+            m.store.ensure(n + total + s)
+            for a in self._arrays():
+                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(a, self._spawn_src, n + total, s)
+            _place_lifted(m.pos, self.zone, self.flags, m.idp, self._spawn_zone, n + total, s, dp, self.next_id)
+            self.next_id += s
+            self.created += s
+            total += s
+        if total:
+            _impose(n + total, m.pos, m.vel, m.rho, self.zone, self.axis, self.sign, self.imposed, self.pz, self.pu,
+                    self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
+        return r, total
 
     def _hold_levels(self, dt):
         """The speed of each boundary that holds its level, from the water next to its plane."""

@@ -106,6 +106,8 @@ def run_case(case, out_dir, backend="cpu", progress=False, plot=True, max_steps=
 
 
 def _start(case, out_dir, procs, backend, progress, plot, max_steps, overwrite, resume, handle_signals):
+    if case is not None:
+        case = case.sampled()  # a series given as a function runs as the table its case.toml will hold
     point = procs.prepare(case, out_dir, overwrite, resume)  # InputError on every process alike
     case = point.case
     model = build_model(case, backend)  # bad input fails here, before anything is written

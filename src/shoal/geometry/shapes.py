@@ -70,6 +70,14 @@ FACES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
 Face = Literal["xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "top", "bottom"]
 
 
+def python_function(v, instead):
+    """`v` if it is None or callable, else the ValueError of a case file that gives a function (a case file is
+    data and cannot hold code), telling what to give `instead`."""
+    if v is not None and not callable(v):
+        raise ValueError(f"a function is Python-API only: a case file is data and cannot hold code; {instead}")
+    return v
+
+
 class Spec(BaseModel):
     """Base of shoal's case objects: unknown keys are errors, values validated."""
 
@@ -439,10 +447,7 @@ class Bathymetry(Shape):
     @field_validator("function", mode="before")
     @classmethod
     def _code(cls, v):
-        if v is not None and not callable(v):
-            raise ValueError("a function is Python-API only: a case file is data and cannot hold code; "
-                             "give the bed as a profile, a grid or a file")
-        return v
+        return python_function(v, "give the bed as a profile, a grid or a file")
 
     @model_validator(mode="after")
     def _one(self):

@@ -94,7 +94,7 @@ class OpenBoundaryExchange:
     name = "open boundaries"
 
     def __call__(self, sim, dt):
-        sim.model.buffers.exchange(dt)
+        sim.model.buffers.exchange(dt, sim.time)
 
 
 class StabilityCheck:
