@@ -85,7 +85,7 @@ def open_boundary_lines(case):
         if level is not None and level[0] != level[1]:
             head += f"; level from {level[0]:g} to {level[1]:g} m over the run (a time series)"
         if ob.holds_level:
-            held = f"{level[0]:g} m" if level[0] == level[1] else "it"
+            held = f"the level {level[0]:g} m" if level[0] == level[1] else "it"
             lines.append(head + f"; holds {held} (velocity from the Riemann invariant, mean over "
                                 f"{ob.relaxation_time:g} s): its inflow is what the flow draws, not known before the run")
             continue

@@ -27,7 +27,8 @@ particles are fluid particles to every kernel; what makes them a buffer:
      id (ids are never reused: `next_id`), and the removed rows are filled from the end (`_move_rows`).
 
 The rows change order; the next sort puts them back in cell order. A one-process CPU run does this in place
-on its arrays; the particles removed are counted (`removed`), not recorded as escaped. The zone tags are
+on its arrays, a CUDA run on host mirrors of its device arrays (`ParticleStore.mirror`: the state goes to
+the host and back each step, every array when rows were created or removed); the particles removed are counted (`removed`), not recorded as escaped. The zone tags are
 among the model's arrays and `next_id`, `created`, `removed` in its checkpoints (`checkpoint_state`): a run
 resumes bit for bit.
 """
@@ -45,19 +46,6 @@ from .time_series import TimeSeries
 GAMMA = 7.0
 SPAWN_GAP = 0.5
 """A copy is not created within this many dp of a particle already in its buffer (`_clear_spawns`)."""
-
-
-@njit(cache=True)
-def _hold(n, zone, ace, drho, xsph, has_xsph):
-    """Zero the rates of the buffer rows (zone > 0)."""
-    dim = ace.shape[1]
-    for i in range(n):
-        if zone[i] > 0:
-            for d in range(dim):
-                ace[i, d] = 0.0
-                if has_xsph:
-                    xsph[i, d] = 0.0
-            drho[i] = 0.0
 
 
 @njit(cache=True)
@@ -415,7 +403,7 @@ class BufferZones:
     Parameters
     ----------
     model : Model
-        A one-process model on the CPU backend; its rows `buffer_rows` (its initial order: row = id) are
+        A one-process model (CPU or CUDA backend); its rows `buffer_rows` (its initial order: row = id) are
         the buffers' particles at the start.
     zones : list of shoal.open_boundary.OpenBoundary
     buffer_zone : (N,) int array
@@ -430,8 +418,6 @@ class BufferZones:
         from .errors import InputError
         from .open_boundary import plane_coordinate
 
-        if not model.backend.host_memory:
-            raise InputError("open boundaries run on the CPU backend for now; use --backend cpu")
         if model.n != model.n_total:
             raise InputError("open boundaries need a model with all its particles active")
         self.model = model
@@ -502,12 +488,17 @@ class BufferZones:
         self.g = float(surface_gravity)
         self.zone = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
         self.flags = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
-        self.zone[:] = 0
         rows = np.flatnonzero(np.asarray(buffer_zone) >= 0)
+        tags = np.zeros(model.n, np.int8)
+        tags[rows] = np.asarray(buffer_zone)[rows] + 1
+        model.backend.copy_into(self.zone, tags, model.n)
         # room for a buffer's worth of copies: a step creates its copies before it removes what left, so a
         # steady flow needs a few rows beyond its count, never the store's 25 % growth
         model.store.resize(model.n + len(rows))
-        self.zone[rows] = np.asarray(buffer_zone)[rows] + 1
+        self.device = not model.backend.host_memory
+        """The arrays live on a device: each exchange works on their host mirrors (`ParticleStore.mirror`)."""
+        if self.device:
+            model.store.mirror(self._arrays())
         self.next_id = int(model.n_total)
         """The id the next particle created gets."""
         self.created = 0
@@ -524,43 +515,55 @@ class BufferZones:
 
     # ----------------------------------------------------------------- rates
     def hold(self, model):
-        """Zero the buffer rows' rates (after each rate evaluation)."""
-        xsph = model.xsph
-        _hold(model.n, self.zone, model.ace, model.drho, xsph, bool(model.spec.xsph))
+        """Zero the buffer rows' rates (after each rate evaluation; the backends' ``hold_buffers`` kernel,
+        `shoal.physics.buffer_hold`)."""
+        b = model.backend
+        b.timed(b.hold_buffers, model.n, (self.zone, model.ace, model.drho, model.xsph))
 
     # --------------------------------------------------------------- the step
     def exchange(self, dt=0.0, t=0.0):
         """Impose the buffers' state, convert, create and remove particles (module docstring); `dt` [s] is the
         step just taken (for the running means of `_hold_levels`), `t` [s] the time now (for the quantities
-        that change in time, `_follow_series`)."""
+        that change in time, `_follow_series`). On a device the work is done on host mirrors of the arrays:
+        the state goes to the host, and back the imposed velocity, density and zone tags, or every array when
+        rows were created or removed."""
         m = self.model
-        gr = m.grid
+        st = m.store
+        n = m.n
+        if self.device:
+            st.mirror(self._arrays())  # arrays made since (an integrator's) get theirs
+            st.to_host(self._state(), n)
+        H = st.host_of
+        grid = self._host_grid()
         if self.varies:
             self._follow_series(t)
         if self.riemann.any():
             self._hold_levels(dt)
-        _extrapolate(m.n, m.pos, m.vel, m.rho, m.kind, self.zone, self.axis, self.x0, self.imposed, self.rho_extra,
-                     gr.cell_start, gr.gdims_arr, gr.lo, 1.0 / gr.cell_size, int(m.options.cells_per_support), m.h)
-        _impose(m.n, m.pos, m.vel, m.rho, self.zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
+        pos, vel, rho, kind, zone = (H(a) for a in self._state())
+        _extrapolate(n, pos, vel, rho, kind, zone, self.axis, self.x0, self.imposed, self.rho_extra, *grid,
+                     int(m.options.cells_per_support), m.h)
+        _impose(n, pos, vel, rho, zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
                 self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
-        n = m.n
         while True:
-            s, r = _classify(n, m.pos, m.kind, self.zone, self.axis, self.sign, self.x0, self.depth, self.tlo,
-                             self.thi, self.flags, self._spawn_src, self._spawn_zone)
+            s, r = _classify(n, pos, kind, zone, self.axis, self.sign, self.x0, self.depth, self.tlo,
+                             self.thi, H(self.flags), self._spawn_src, self._spawn_zone)
             if s >= 0:
                 break
             self._spawn_src = np.zeros(2 * len(self._spawn_src), np.int64)  # rare: more crossings than room
             self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
         if s:
-            s = _clear_spawns(s, m.pos, self.zone, self._spawn_src, self._spawn_zone, self.axis, self.sign,
-                              self.depth, SPAWN_GAP * m.dp, gr.cell_start, gr.gdims_arr, gr.lo, 1.0 / gr.cell_size)
+            s = _clear_spawns(s, pos, zone, self._spawn_src, self._spawn_zone, self.axis, self.sign, self.depth,
+                              SPAWN_GAP * m.dp, *grid)
+        rows_change = bool(s or r or self.follows)
+        if self.device and rows_change:  # the rest (the flags were written here)
+            st.to_host([a for a in self._arrays() if all(a is not b for b in [*self._state(), self.flags])], n)
+        del pos, vel, rho, kind, zone  # growing the arrays (or their mirrors) may move them
         if s:
-            m.store.ensure(n + s)
-            arrays = self._arrays()
-            for a in arrays:
-                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(a, self._spawn_src, n, s)
-            _place_spawns(m.pos, self.zone, m.idp, self._spawn_src, self._spawn_zone, n, s, self.axis, self.sign,
-                          self.depth, self.next_id)
+            st.ensure(n + s)
+            for a in self._arrays():
+                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(H(a), self._spawn_src, n, s)
+            _place_spawns(H(m.pos), H(self.zone), H(m.idp), self._spawn_src, self._spawn_zone, n, s, self.axis,
+                          self.sign, self.depth, self.next_id)
             # a copy's flag is its source's: 0 (a source became fluid this step, it is not removed)
             self.next_id += s
             self.created += s
@@ -572,14 +575,31 @@ class BufferZones:
             if len(self._holes) < r:
                 self._holes = np.zeros(2 * r, np.int64)
                 self._fillers = np.zeros(2 * r, np.int64)
-            h = _holes(n, self.flags, self._holes, self._fillers)
+            h = _holes(n, H(self.flags), self._holes, self._fillers)
             for a in self._arrays():
-                (_move_rows_2d if a.ndim == 2 else _move_rows_1d)(a, self._holes, self._fillers, h)
+                (_move_rows_2d if a.ndim == 2 else _move_rows_1d)(H(a), self._holes, self._fillers, h)
             n -= r
             self.removed += r
+        if self.device:
+            st.to_device(self._arrays() if rows_change else [m.vel, m.rho, self.zone], n)
         m.n = n
         m.n_total = n
         return s, r
+
+    def _state(self):
+        """The arrays the state imposed and the classification read and write."""
+        m = self.model
+        return [m.pos, m.vel, m.rho, m.kind, self.zone]
+
+    def _host_grid(self):
+        """(cell_start, cell counts per axis, grid corner, 1 / cell size) of the neighbour grid as host arrays:
+        the cells of the last sort (the device's copied)."""
+        gr = self.model.grid
+        if not self.device:
+            return gr.cell_start, gr.gdims_arr, gr.lo, 1.0 / gr.cell_size
+        starts = gr.cell_start
+        return (starts.copy_to_host(), np.asarray(gr.gdims, np.int64), np.asarray(gr.lo, np.float64),
+                1.0 / gr.cell_size)
 
     def _follow_series(self, t):
         """The imposed speed, level and level-held depth of the boundaries given as time series, at time t."""
@@ -601,16 +621,17 @@ class BufferZones:
         row a copy of that row is appended a dp higher (new ids). Takes and returns the count of flagged rows,
         and returns the rows appended (at n, with their imposed state)."""
         m = self.model
+        H = m.store.host_of
         dp = m.dp
         for k in self.follows:
-            r += _trim(n, m.pos, self.zone, self.flags, k, self.level[k] + 0.5 * dp)
+            r += _trim(n, H(m.pos), H(self.zone), H(self.flags), k, self.level[k] + 0.5 * dp)
         total = 0
         while True:
             s = 0
             for k in self.follows:
                 tcol, t0, ztop = self._columns[k]
-                s = _top_rows(n + total, m.pos, self.zone, self.flags, k, self.level[k], dp, tcol, t0, ztop,
-                              self._spawn_src, self._spawn_zone, s)
+                s = _top_rows(n + total, H(m.pos), H(self.zone), H(self.flags), k, self.level[k], dp, tcol, t0,
+                              ztop, self._spawn_src, self._spawn_zone, s)
                 if s < 0:
                     break
             if s < 0:
@@ -621,14 +642,15 @@ class BufferZones:
                 break
             m.store.ensure(n + total + s)
             for a in self._arrays():
-                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(a, self._spawn_src, n + total, s)
-            _place_lifted(m.pos, self.zone, self.flags, m.idp, self._spawn_zone, n + total, s, dp, self.next_id)
+                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(H(a), self._spawn_src, n + total, s)
+            _place_lifted(H(m.pos), H(self.zone), H(self.flags), H(m.idp), self._spawn_zone, n + total, s, dp,
+                          self.next_id)
             self.next_id += s
             self.created += s
             total += s
         if total:
-            _impose(n + total, m.pos, m.vel, m.rho, self.zone, self.axis, self.sign, self.imposed, self.pz, self.pu,
-                    self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
+            _impose(n + total, H(m.pos), H(m.vel), H(m.rho), H(self.zone), self.axis, self.sign, self.imposed,
+                    self.pz, self.pu, self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         return r, total
 
     def _hold_levels(self, dt):
@@ -636,8 +658,9 @@ class BufferZones:
         from .open_boundary import riemann_speed
 
         m = self.model
-        _band_state(m.n, m.pos, m.vel, m.rho, m.kind, self.zone, self.axis, self.sign, self.x0, self.band,
-                    self.tlo, self.thi, m.mass, self.riemann, self._band)
+        H = m.store.host_of
+        _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self.axis, self.sign, self.x0,
+                    self.band, self.tlo, self.thi, m.mass, self.riemann, self._band)
         for k in np.flatnonzero(self.riemann):
             vol, flux = self._band[k]
             depth = vol / self.width[k]
@@ -683,6 +706,6 @@ class BufferZones:
     def counts(self):
         """(fluid particles of the domain, buffer particles) now."""
         m = self.model
-        z = self.zone[:m.n]
-        fluid = m.kind[:m.n] == FLUID
+        z = m.host(self.zone)
+        fluid = m.host(m.kind) == FLUID
         return int(np.count_nonzero(fluid & (z == 0))), int(np.count_nonzero(z > 0))

@@ -4,13 +4,14 @@
 `shoal.timestepping.updates` (the integrators' updates) with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
 (``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
-``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``shift``, ``shift_apply``, ``move_bodies``,
+``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``hold_buffers``, ``shift``, ``shift_apply``, ``move_bodies``,
 ``rotate_wall_vectors``, ``wrap_periodic``) from one source.
 """
 
 from ..neighbours.gather import make_gather
 from ..physics import build_physics
 from ..physics.body_motion import make_body_motion, make_wall_vector_rotation
+from ..physics.buffer_hold import make_buffer_hold
 from ..physics.damping import make_damping
 from ..physics.periodic_wrap import make_periodic_wrap
 from ..physics.relaxation import make_relaxation
@@ -47,6 +48,7 @@ def attach_loops(backend, jit, for_each, spec, target):
     backend.wrap_periodic = for_each(make_periodic_wrap(phys.named_jit, spec, phys.unpack))
     backend.damp = for_each(make_damping(phys.named_jit, spec))
     backend.relax = for_each(make_relaxation(phys.named_jit, spec))
+    backend.hold_buffers = for_each(make_buffer_hold(phys.named_jit, spec))
     shift, shift_apply = make_shifting(phys.named_jit, spec, (phys.w, phys.grad_factor), phys.surface_normal,
                                        make_gather, phys.unpack)
     backend.shift = for_each(shift)
