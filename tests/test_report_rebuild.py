@@ -120,6 +120,21 @@ def test_a_merge_keeps_each_entry_its_own_stamp(tmp_path, committed_case_folders
     assert (entries["poiseuille"]["commit"], entries["poiseuille"]["measured"]) == ("c" * 40, "2026-02-03")
 
 
+def test_a_merge_brings_the_figures_each_entry_names(tmp_path, committed_case_folders):
+    """A merged entry's figures come with it, also one whose name is not the case's (sluice-gate draws
+    sluice_gate.png), and the files named after the case; nothing else of the source folder."""
+    new = _stamped(tmp_path / "new", "poiseuille", "c" * 40)
+    new.figures = [tmp_path / "new" / "figures" / "poiseuille_profile.png", tmp_path / "new" / "figures" / "p.png"]
+    write_report([new], tmp_path / "new")
+    (tmp_path / "new" / "figures").mkdir(parents=True, exist_ok=True)
+    for name in ("poiseuille_profile.png", "p.png", "poiseuille_data.csv", "other.png"):
+        (tmp_path / "new" / "figures" / name).write_bytes(b"x")
+    write_report([_stamped(tmp_path / "base")], tmp_path / "base")
+    merge_reports([tmp_path / "new"], tmp_path / "base")
+    got = sorted(f.name for f in (tmp_path / "base" / "figures").iterdir())
+    assert {"poiseuille_profile.png", "p.png", "poiseuille_data.csv"} <= set(got) and "other.png" not in got
+
+
 class _Instant(ValidationCase):
     name, title, cost = "instant", "a case that measures nothing", 0.0
 

@@ -334,8 +334,12 @@ def merge_reports(sources, out, cases=None, command=None):
                 continue
             if src.resolve() != out.resolve():
                 (out / "figures").mkdir(parents=True, exist_ok=True)
-                for f in sorted((src / "figures").glob(f"{r.case}*")) if (src / "figures").is_dir() else []:
-                    shutil.copy2(f, out / "figures" / f.name)
+                # its figures by name (a case's may not start with its name: sluice-gate's sluice_gate.png) and
+                # the files named after the case (the data behind a figure)
+                named = {Path(f).name for f in r.figures}
+                for f in sorted((src / "figures").iterdir()) if (src / "figures").is_dir() else []:
+                    if f.name in named or f.name.startswith(r.case):
+                        shutil.copy2(f, out / "figures" / f.name)
                 r.figures = [out / "figures" / Path(f).name for f in r.figures]
                 r.out = out / "figures"
             _compare_again(r)
