@@ -188,8 +188,8 @@ def test_a_tide_at_the_mouth_of_a_closed_basin_makes_its_standing_wave(tmp_path)
     the last two periods: the amplitude at 0.1 m, 0.3 m and 0.55 m within 3 % of theory's (the same fit of the
     linear equations' own solution from rest, its basin modes undamped, is 1.6-1.8 % below the formula; 1 % more
     for the tide's nonlinearity, (a / d)^2), the level behind the tide by less than 0.15 rad, the mean level
-    within dp/4 (measured: +0.3, -2.1, -1.3 %, 0.09-0.11 rad, 0.2 mm; 6 min on one core). (At dp = 0.02 m the amplitude is 9-12 % short: the boundary's band of 3 kernel supports is then
-    a quarter of the basin.)"""
+    within dp/4 (measured: +0.3, -2.1, -1.3 %, 0.09-0.11 rad, 0.2 mm; 6 min on one core). (At dp = 0.02 m the
+    amplitude is 9-12 % short: the boundary's band of 3 kernel supports is then a quarter of the basin.)"""
     out = tide_errors(tmp_path, 0.01, 0.6, 4.0, 6.0, 14.0, 8.0)
     for name, (err, phase, mean) in out.items():
         assert abs(err) < 0.03, name

@@ -4,8 +4,8 @@
 `shoal.timestepping.updates` (the integrators' updates) with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
 (``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
-``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``hold_buffers``, ``shift``, ``shift_apply``, ``move_bodies``,
-``rotate_wall_vectors``, ``wrap_periodic``) from one source.
+``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``hold_buffers``, ``shift``,
+``shift_apply``, ``move_bodies``, ``rotate_wall_vectors``, ``wrap_periodic``) from one source.
 """
 
 from ..neighbours.gather import make_gather
