@@ -65,8 +65,6 @@ def build_model(case, backend="cpu"):
     if case.open_boundaries:
         from .particle_buffers import BufferZones
 
-        if world() is not None:
-            raise InputError("open boundaries run in one process for now; run without mpiexec")
         if case.options.shifting != "none":
             raise InputError(f"options.shifting = {case.options.shifting!r} with open boundaries: shifting would "
                              "move the buffers' particles off their lattice; use shifting = \"none\"")

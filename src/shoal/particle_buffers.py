@@ -28,9 +28,11 @@ particles are fluid particles to every kernel; what makes them a buffer:
 
 The rows change order; the next sort puts them back in cell order. A one-process CPU run does this in place
 on its arrays, a CUDA run on host mirrors of its device arrays (`ParticleStore.mirror`: the state goes to
-the host and back each step, every array when rows were created or removed); the particles removed are counted (`removed`), not recorded as escaped. The zone tags are
-among the model's arrays and `next_id`, `created`, `removed` in its checkpoints (`checkpoint_state`): a run
-resumes bit for bit.
+the host and back each step, every array when rows were created or removed). On MPI ranks each rank does it
+for the particles it owns (never its ghosts), the band sums and the buffers' column tops are combined over
+the ranks and the new particles numbered rank after rank. The particles removed are counted (`removed`), not
+recorded as escaped. The zone tags are among the model's arrays and `next_id`, `created`, `removed` in its
+checkpoints (`checkpoint_state`): a one-process run resumes bit for bit.
 """
 
 from __future__ import annotations
@@ -159,7 +161,7 @@ def _in_section(pos, i, k, axis, tlo, thi):
 
 
 @njit(cache=True)
-def _band_state(n, pos, vel, rho, kind, zone, axis, sign, x0, band, tlo, thi, mass, which, out):
+def _band_state(n, pos, vel, rho, kind, zone, ghost, axis, sign, x0, band, tlo, thi, mass, which, out):
     """For each boundary k with `which[k]`: out[k, 0] = sum of w V_j and out[k, 1] = sum of w V_j u_j over
     the domain's fluid inside the section at 0 <= d < band[k] from the plane (d along the normal, u_j the
     speed along it, V_j = mass / rho_j), with the tent weight w(d) = 4 min(d, band - d) / band^2 (unit integral
@@ -169,8 +171,9 @@ def _band_state(n, pos, vel, rho, kind, zone, axis, sign, x0, band, tlo, thi, ma
     for k in range(nz):
         for c in range(out.shape[1]):
             out[k, c] = 0.0
+    has_g = ghost.shape[0] >= n
     for i in range(n):
-        if zone[i] != 0 or kind[i] != FLUID:
+        if zone[i] != 0 or kind[i] != FLUID or (has_g and ghost[i] != 0):
             continue
         for k in range(nz):
             if not which[k]:
@@ -187,14 +190,17 @@ def _band_state(n, pos, vel, rho, kind, zone, axis, sign, x0, band, tlo, thi, ma
 
 
 @njit(cache=True)
-def _classify(n, pos, kind, zone, axis, sign, x0, depth, tlo, thi, flags, spawn_src, spawn_zone):
+def _classify(n, pos, kind, zone, ghost, axis, sign, x0, depth, tlo, thi, flags, spawn_src, spawn_zone):
     """Tag changes and the rows to remove or copy (module docstring, 2). Returns (spawns, removals), or
     (-1, 0) when `spawn_src` is too short (call again with a longer one)."""
     nz = axis.shape[0]
     s = 0
     r = 0
+    has_g = ghost.shape[0] >= n
     for i in range(n):
         flags[i] = 0
+        if has_g and ghost[i] != 0:
+            continue  # another rank's particle: its owner converts it
         t = zone[i]
         if t > 0:
             k = t - 1
@@ -226,11 +232,15 @@ def _classify(n, pos, kind, zone, axis, sign, x0, depth, tlo, thi, flags, spawn_
 
 
 @njit(cache=True)
-def _trim(n, pos, zone, flags, k, limit):
-    """Flag for removal the rows of boundary k's buffer above height `limit`; returns their count."""
+def _trim(n, pos, zone, ghost, flags, k, limit):
+    """Flag for removal the rows of boundary k's buffer above height `limit` (not another rank's); returns their
+    count."""
     dim = pos.shape[1]
+    has_g = ghost.shape[0] >= n
     r = 0
     for i in range(n):
+        if has_g and ghost[i] != 0:
+            continue
         if zone[i] == k + 1 and flags[i] == 0 and pos[i, dim - 1] > limit:
             flags[i] = 1
             r += 1
@@ -247,21 +257,31 @@ def _column(pos, i, tcol, t0, dp, ncol):
 
 
 @njit(cache=True)
-def _top_rows(n, pos, zone, flags, k, level, dp, tcol, t0, ztop, src, kz, s0):
-    """Append to `src` (from s0 on) the rows of boundary k's buffer in the top row of each lattice column
-    whose top row stands at least dp below `level` (their copies a dp higher fill the buffer up to the level).
-    Returns the new length of `src`, or -1 when it is too short."""
+def _column_tops(n, pos, zone, ghost, flags, k, dp, tcol, t0, ztop):
+    """ztop[c]: the height of the top particle of boundary k's buffer in each lattice column (this rank's; -inf
+    in a column with none)."""
     dim = pos.shape[1]
     ncol = ztop.shape[0]
+    has_g = ghost.shape[0] >= n
     for c in range(ncol):
         ztop[c] = -math.inf
     for i in range(n):
-        if zone[i] == k + 1 and flags[i] == 0:
+        if zone[i] == k + 1 and flags[i] == 0 and not (has_g and ghost[i] != 0):
             c = _column(pos, i, tcol, t0, dp, ncol)
             ztop[c] = max(ztop[c], pos[i, dim - 1])
+
+
+@njit(cache=True)
+def _top_rows(n, pos, zone, ghost, flags, k, level, dp, tcol, t0, ztop, src, kz, s0):
+    """Append to `src` (from s0 on) the rows of boundary k's buffer in the top row of each lattice column
+    (`ztop`, over every rank) whose top row stands at least dp below `level` (their copies a dp higher fill
+    the buffer up to the level). Returns the new length of `src`, or -1 when it is too short."""
+    dim = pos.shape[1]
+    ncol = ztop.shape[0]
+    has_g = ghost.shape[0] >= n
     s = s0
     for i in range(n):
-        if zone[i] != k + 1 or flags[i] != 0:
+        if zone[i] != k + 1 or flags[i] != 0 or (has_g and ghost[i] != 0):
             continue
         c = _column(pos, i, tcol, t0, dp, ncol)
         if ztop[c] + dp <= level and pos[i, dim - 1] >= ztop[c] - 0.5 * dp:
@@ -418,7 +438,10 @@ class BufferZones:
         from .errors import InputError
         from .open_boundary import plane_coordinate
 
-        if model.n != model.n_total:
+        self.ranks = model.ghost_flags() is not None
+        """The model is one MPI rank's slab (`shoal.parallel.model.DistributedModel`): each exchange works on its
+        own particles, the counts, ids and band sums agreed over the ranks."""
+        if not self.ranks and model.n != model.n_total:
             raise InputError("open boundaries need a model with all its particles active")
         self.model = model
         self.zones = list(zones)
@@ -488,13 +511,13 @@ class BufferZones:
         self.g = float(surface_gravity)
         self.zone = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
         self.flags = model.new_array(model.scratch[(np.dtype(np.int8).str, 0)], owner=self)
-        rows = np.flatnonzero(np.asarray(buffer_zone) >= 0)
-        tags = np.zeros(model.n, np.int8)
-        tags[rows] = np.asarray(buffer_zone)[rows] + 1
+        tags = (np.asarray(buffer_zone)[model.host(model.idp)] + 1).astype(np.int8)  # each row's, by its id
+        local = int(np.count_nonzero(tags))
         model.backend.copy_into(self.zone, tags, model.n)
         # room for a buffer's worth of copies: a step creates its copies before it removes what left, so a
         # steady flow needs a few rows beyond its count, never the store's 25 % growth
-        model.store.resize(model.n + len(rows))
+        if model.store.capacity < model.n + local:
+            model.store.resize(model.n + local)
         self.device = not model.backend.host_memory
         """The arrays live on a device: each exchange works on their host mirrors (`ParticleStore.mirror`)."""
         if self.device:
@@ -505,7 +528,8 @@ class BufferZones:
         """Particles created so far."""
         self.removed = 0
         """Particles removed so far (past a buffer's far end)."""
-        self._spawn_src = np.zeros(max(64, len(rows)), np.int64)
+        self._spawn_src = np.zeros(max(64, local), np.int64)
+        self._no_ghosts = np.zeros(0, np.int8)
         self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
         self._holes = np.zeros(len(self._spawn_src), np.int64)
         self._fillers = np.zeros(len(self._spawn_src), np.int64)
@@ -539,13 +563,14 @@ class BufferZones:
             self._follow_series(t)
         if self.riemann.any():
             self._hold_levels(dt)
+        gh = self._ghosts()
         pos, vel, rho, kind, zone = (H(a) for a in self._state())
         _extrapolate(n, pos, vel, rho, kind, zone, self.axis, self.x0, self.imposed, self.rho_extra, *grid,
                      int(m.options.cells_per_support), m.h)
         _impose(n, pos, vel, rho, zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
                 self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         while True:
-            s, r = _classify(n, pos, kind, zone, self.axis, self.sign, self.x0, self.depth, self.tlo,
+            s, r = _classify(n, pos, kind, zone, gh, self.axis, self.sign, self.x0, self.depth, self.tlo,
                              self.thi, H(self.flags), self._spawn_src, self._spawn_zone)
             if s >= 0:
                 break
@@ -557,20 +582,21 @@ class BufferZones:
         rows_change = bool(s or r or self.follows)
         if self.device and rows_change:  # the rest (the flags were written here)
             st.to_host([a for a in self._arrays() if all(a is not b for b in [*self._state(), self.flags])], n)
-        del pos, vel, rho, kind, zone  # growing the arrays (or their mirrors) may move them
+        del pos, vel, rho, kind, zone, gh  # growing the arrays (or their mirrors) may move them
+        first, made = self._number(s)
         if s:
             st.ensure(n + s)
             for a in self._arrays():
                 (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(H(a), self._spawn_src, n, s)
             _place_spawns(H(m.pos), H(self.zone), H(m.idp), self._spawn_src, self._spawn_zone, n, s, self.axis,
-                          self.sign, self.depth, self.next_id)
+                          self.sign, self.depth, first)
             # a copy's flag is its source's: 0 (a source became fluid this step, it is not removed)
-            self.next_id += s
-            self.created += s
             n += s
         if self.follows:
-            r, lifted = self._follow_levels(n, r)
+            r, lifted, lifted_all = self._follow_levels(n, r)
             n += lifted
+            made += lifted_all
+        gone = m.reduce(int(r), "sum") if self.ranks else r
         if r:
             if len(self._holes) < r:
                 self._holes = np.zeros(2 * r, np.int64)
@@ -579,12 +605,35 @@ class BufferZones:
             for a in self._arrays():
                 (_move_rows_2d if a.ndim == 2 else _move_rows_1d)(H(a), self._holes, self._fillers, h)
             n -= r
-            self.removed += r
+        self.removed += gone
         if self.device:
             st.to_device(self._arrays() if rows_change else [m.vel, m.rho, self.zone], n)
         m.n = n
-        m.n_total = n
+        if self.ranks:
+            m.n_total = m.n_global = m.n_global + made - gone
+            # the halo's count of this rank's particles, for the counts read before the next sort
+            m.halo.n_owned = int(np.count_nonzero(self._ghosts()[:n] == 0))
+        else:
+            m.n_total = n
         return s, r
+
+    def _ghosts(self):
+        """The ghost flags of the rows (host), or an empty array in one process (`_classify` etc.: no ghosts)."""
+        return self.model.store.host_of(self.model.ghost_flags()) if self.ranks else self._no_ghosts
+
+    def _number(self, count):
+        """(the id of this process's first new particle, the particles new over all ranks) for `count` new
+        particles here; advances `next_id` and `created`. With ranks, rank k's come after those of ranks below
+        it (collective)."""
+        m = self.model
+        if self.ranks:
+            counts = m.gather(int(count))
+            first, made = self.next_id + sum(counts[:m.mpi_rank]), sum(counts)
+        else:
+            first, made = self.next_id, int(count)
+        self.next_id += made
+        self.created += made
+        return first, made
 
     def _state(self):
         """The arrays the state imposed and the classification read and write."""
@@ -618,40 +667,44 @@ class BufferZones:
     def _follow_levels(self, n, r):
         """Fill the buffers of the boundaries with a level that changes in time up to the level: the rows more
         than dp/2 above it are flagged for removal, and where the level stands a dp or more above a column's top
-        row a copy of that row is appended a dp higher (new ids). Takes and returns the count of flagged rows,
-        and returns the rows appended (at n, with their imposed state)."""
+        row (over every rank) a copy of that row is appended a dp higher (new ids). Takes and returns the count
+        of flagged rows, and returns the rows appended here (at n, with their imposed state) and over every
+        rank."""
         m = self.model
         H = m.store.host_of
         dp = m.dp
         for k in self.follows:
-            r += _trim(n, H(m.pos), H(self.zone), H(self.flags), k, self.level[k] + 0.5 * dp)
-        total = 0
+            r += _trim(n, H(m.pos), H(self.zone), self._ghosts(), H(self.flags), k, self.level[k] + 0.5 * dp)
+        # room for every buffer particle as a source: no rank retries alone between the collectives
+        need = int(np.count_nonzero(H(self.zone)[:n]))
+        if len(self._spawn_src) < need:
+            self._spawn_src = np.zeros(2 * need, np.int64)
+            self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
+        total = made = 0
         while True:
             s = 0
             for k in self.follows:
                 tcol, t0, ztop = self._columns[k]
-                s = _top_rows(n + total, H(m.pos), H(self.zone), H(self.flags), k, self.level[k], dp, tcol, t0,
-                              ztop, self._spawn_src, self._spawn_zone, s)
-                if s < 0:
-                    break
-            if s < 0:
-                self._spawn_src = np.zeros(2 * len(self._spawn_src), np.int64)
-                self._spawn_zone = np.zeros(len(self._spawn_src), np.int64)
-                continue
-            if not s:
+                _column_tops(n + total, H(m.pos), H(self.zone), self._ghosts(), H(self.flags), k, dp, tcol, t0, ztop)
+                if self.ranks:
+                    ztop[:] = m.reduce_array(ztop, "max")
+                s = _top_rows(n + total, H(m.pos), H(self.zone), self._ghosts(), H(self.flags), k, self.level[k], dp,
+                              tcol, t0, ztop, self._spawn_src, self._spawn_zone, s)
+            first, now = self._number(s)
+            if not now:
                 break
-            m.store.ensure(n + total + s)
-            for a in self._arrays():
-                (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(H(a), self._spawn_src, n + total, s)
-            _place_lifted(H(m.pos), H(self.zone), H(self.flags), H(m.idp), self._spawn_zone, n + total, s, dp,
-                          self.next_id)
-            self.next_id += s
-            self.created += s
+            if s:
+                m.store.ensure(n + total + s)
+                for a in self._arrays():
+                    (_copy_rows_2d if a.ndim == 2 else _copy_rows_1d)(H(a), self._spawn_src, n + total, s)
+                _place_lifted(H(m.pos), H(self.zone), H(self.flags), H(m.idp), self._spawn_zone, n + total, s, dp,
+                              first)
             total += s
+            made += now
         if total:
             _impose(n + total, H(m.pos), H(m.vel), H(m.rho), H(self.zone), self.axis, self.sign, self.imposed,
                     self.pz, self.pu, self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
-        return r, total
+        return r, total, made
 
     def _hold_levels(self, dt):
         """The speed of each boundary that holds its level, from the water next to its plane."""
@@ -659,8 +712,10 @@ class BufferZones:
 
         m = self.model
         H = m.store.host_of
-        _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self.axis, self.sign, self.x0,
-                    self.band, self.tlo, self.thi, m.mass, self.riemann, self._band)
+        _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self._ghosts(), self.axis,
+                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, self.riemann, self._band)
+        if self.ranks:
+            self._band[:] = m.reduce_array(self._band, "sum")
         for k in np.flatnonzero(self.riemann):
             vol, flux = self._band[k]
             depth = vol / self.width[k]

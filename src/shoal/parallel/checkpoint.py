@@ -270,6 +270,14 @@ def _restore_redistributed(sim, ck):
     restore_scalars(sim, Checkpoint(ck.path, meta, ck.case_toml, {}, extra, ck.callbacks, {}))
 
 
+def _no_open_boundaries(model):
+    """Refuse to resume on several ranks, or from several ranks' checkpoint, a case with open boundaries (its
+    ranks' particle counts and ids change during the run: not put back yet)."""
+    if model.buffers is not None:
+        raise CheckpointError("a run with open boundaries resumes in one process from a one-process checkpoint "
+                              "only, for now (not on MPI ranks, nor from their checkpoint)")
+
+
 def restore_rank(sim, ck):
     """Put this rank's checkpoint `ck` into `sim` (a Simulation of a `DistributedModel` built
     from the same case, with the same callbacks in the same order).
@@ -280,6 +288,7 @@ def restore_rank(sim, ck):
         The checkpoint does not match the model or the Simulation.
     """
     m = sim.model
+    _no_open_boundaries(m)
     mm = ck.meta["model"]
     if mm["n_total"] != m.n_global or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
         raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
@@ -333,6 +342,7 @@ def for_one_process(ck, sim):
         The checkpoint does not match the model or the Simulation, or its
         ranks do not hold every active particle exactly once.
     """
+    _no_open_boundaries(sim.model)
     from ..simulation.checkpoint import Checkpoint
 
     m = sim.model
