@@ -351,7 +351,8 @@ class Ranks:
         n_fluid0 = case.n_fluid
 
         def escaped_check(s):
-            gone = n_fluid0 - model.reduce(model.n_fluid, "sum")
+            b = model.buffers  # what open boundaries created and removed (counted over the ranks) did not escape
+            gone = n_fluid0 + ((b.created - b.removed) if b is not None else 0) - model.reduce(model.n_fluid, "sum")
             if gone > case.max_escaped_fraction * n_fluid0:
                 raise CollectiveError(
                     f"{gone} of {n_fluid0} fluid particles ({100.0 * gone / n_fluid0:.1f} %) have left the domain by "
