@@ -1159,7 +1159,7 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     the water let in at x = 0 and out at its end, to t = 0.2 s. Each rank
     converts, creates and removes its own particles, numbers its new ones after the lower ranks' and combines
     the inlet's band sums over the ranks: the same particles (ids) at the end, as many created and removed,
-    the water within 0.01 dp of the single-process run. With an inlet of imposed velocity and an outlet that
+    the water within 0.01 dp of the single-process run, the same volume through a flow gauge. With an inlet of imposed velocity and an outlet that
     takes twice as much (the fluid drains: max_escaped_fraction = 0.005 must not count what the outlet removed as
     escaped); and with an inlet holding a level that rises 0.05 m (rows lifted into its buffer) against an
     outlet that takes 0.2 m/s, the slab cut inside the inlet's band (its depth and speed summed over both
@@ -1170,6 +1170,7 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     from shoal.geometry.shapes import Box
     from shoal.open_boundary import OpenBoundary
     from shoal.output.vtu import read_vtu
+    from shoal.probes import FlowGauge
     from shoal.time_series import TimeSeries
 
     dp, d, t_end = 0.02, 0.2, 0.2
@@ -1185,6 +1186,7 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
                 options={"wall_pressure": "adami", "visco_bound_factor": 0.0}, output=Output(interval=t_end),
                 solids=[Solid(name="bed", shape=Box(lo=(-0.2, 0, -4 * dp), hi=(length + 0.2, 0, 0)))],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(length, 0, d)), velocity=(0.2, 0, 0))],
+                probes=[FlowGauge(name="q", at=0.05, interval=0.01)],
                 open_boundaries=[
                     OpenBoundary(name="in", point=(0, 0, 0), normal=(1, 0, 0), lo=(0, 0, 0), hi=(0, 0, 2 * d), **ins),
                     OpenBoundary(name="out", point=(length, 0, 0), normal=(-1, 0, 0), lo=(length, 0, 0),
@@ -1209,6 +1211,9 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     assert np.array_equal(i1, i2) and len(np.unique(i1)) == len(i1)
     assert i1.max() >= case.n_particles  # particles made during the run are among them
     assert np.max(np.abs(p1 - p2)) <= 0.01 * dp
+    # a flow gauge counts the particles the inlet made as they pass (ids beyond the case's, on either rank)
+    q1, q2 = (np.loadtxt(tmp_path / r / "flow_q.csv", delimiter=",", skiprows=1) for r in ("one", "two"))
+    assert q1.shape == q2.shape and q1[-1, 1] > 10 * dp ** 2 and np.array_equal(q1[:, 1], q2[:, 1])
     if inlet == "velocity":  # not put back yet on ranks: refused in one line, exit 2
         run = [sys.executable, "-m", "shoal", "run", "--no-plot", "--no-progress", "--resume", str(tmp_path / "two"),
                "--end-time", str(2 * t_end)]

@@ -942,8 +942,9 @@ class Model:
 
     @property
     def n_ids(self):
-        """Number of particle ids of the case (ids run from 0 to n_ids - 1)."""
-        return self.n_total
+        """Number of particle ids so far (ids run from 0 to n_ids - 1): the case's, and those open boundaries
+        gave the particles they made (`shoal.particle_buffers.BufferZones.next_id`, the same on every rank)."""
+        return self.n_total if self.buffers is None else max(self.n_total, self.buffers.next_id)
 
     def owned_density(self):
         """(N,) float64 densities of the particles `owned_particles` gives."""
