@@ -38,6 +38,7 @@ ROUND_TRIP = {
     "floating-box-2d": dict(dp=0.025),
     "moored-box-3d": dict(dp=0.05),
     "open-channel-2d": dict(dp=0.04),
+    "open-channel-3d": dict(dp=0.05, length=0.6, gauges_x=[0.3]),
     "sluice-gate-2d": dict(dp=0.015),
     "weir-2d": dict(dp=0.02),
 }

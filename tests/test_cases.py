@@ -16,7 +16,8 @@ COARSE = {
     "still-water-2d": dict(dp=0.05), "still-water-3d": dict(dp=0.06), "wave-flume-2d": dict(dp=0.04),
     "wave-basin-2d": dict(dp=0.04, length=4.5), "wave-flume-3d": dict(dp=0.08, width=0.4), "tidal-bore": dict(dp=0.025), "tidal-bore-piers": dict(dp=0.025),
     "rip-current": dict(dp=0.075), "floating-box-2d": dict(dp=0.025), "moored-box-3d": dict(dp=0.05),
-    "open-channel-2d": dict(dp=0.04), "sluice-gate-2d": dict(dp=0.015), "weir-2d": dict(dp=0.02),
+    "open-channel-2d": dict(dp=0.04), "open-channel-3d": dict(dp=0.05, length=0.6, gauges_x=[0.3]),
+    "sluice-gate-2d": dict(dp=0.015), "weir-2d": dict(dp=0.02),
 }
 
 

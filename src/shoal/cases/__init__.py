@@ -7,7 +7,7 @@ from ..errors import InputError
 from .dam_break import dam_break_2d, dam_break_3d, dam_break_dualsphysics
 from .floating_box import floating_box_2d
 from .moored_box import moored_box_3d
-from .open_channel import open_channel_2d
+from .open_channel import open_channel_2d, open_channel_3d
 from .rip_current import rip_current
 from .sluice_gate import sluice_gate_2d
 from .still_water import still_water_2d, still_water_3d
@@ -31,6 +31,7 @@ CASES = {
     "floating-box-2d": floating_box_2d,
     "moored-box-3d": moored_box_3d,
     "open-channel-2d": open_channel_2d,
+    "open-channel-3d": open_channel_3d,
     "sluice-gate-2d": sluice_gate_2d,
     "weir-2d": weir_2d,
 }
@@ -60,4 +61,5 @@ def get_case(name, **kwargs):
 __all__ = ["CASES", "get_case", "case_parameters", "dam_break_2d", "dam_break_3d", "dam_break_dualsphysics",
            "still_water_2d", "still_water_3d", "wave_flume_2d", "wave_flume_3d", "wave_basin_2d", "tidal_bore",
            "tidal_bore_piers",
-           "rip_current", "floating_box_2d", "moored_box_3d", "open_channel_2d", "sluice_gate_2d", "weir_2d"]
+           "rip_current", "floating_box_2d", "moored_box_3d", "open_channel_2d", "open_channel_3d", "sluice_gate_2d",
+           "weir_2d"]
