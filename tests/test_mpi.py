@@ -1163,9 +1163,12 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     takes twice as much (the fluid drains: max_escaped_fraction = 0.005 must not count what the outlet removed as
     escaped); and with an inlet holding a level that rises 0.05 m (rows lifted into its buffer) against an
     outlet that takes 0.2 m/s, the slab cut inside the inlet's band (its depth and speed summed over both
-    ranks)."""
+    ranks). Stopped halfway and resumed on 2 ranks, that run ends bitwise as the run in one go; the first one's
+    checkpoint resumed in one process is refused in one line (the union of the ranks' particles is not put
+    back yet with open boundaries)."""
     import re
 
+    import shoal
     from shoal.case import Case, Fluid, FluidRegion, Output, Solid
     from shoal.geometry.shapes import Box
     from shoal.open_boundary import OpenBoundary
@@ -1214,9 +1217,22 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     # a flow gauge counts the particles the inlet made as they pass (ids beyond the case's, on either rank)
     q1, q2 = (np.loadtxt(tmp_path / r / "flow_q.csv", delimiter=",", skiprows=1) for r in ("one", "two"))
     assert q1.shape == q2.shape and q1[-1, 1] > 10 * dp ** 2 and np.array_equal(q1[:, 1], q2[:, 1])
-    if inlet == "velocity":  # not put back yet on ranks: refused in one line, exit 2
-        run = [sys.executable, "-m", "shoal", "run", "--no-plot", "--no-progress", "--resume", str(tmp_path / "two"),
-               "--end-time", str(2 * t_end)]
-        r = subprocess.run([*mpiexec, "-n", "2", *run], capture_output=True, text=True, timeout=120, env=_env())
+    run = [sys.executable, "-m", "shoal", "run", "--no-plot", "--no-progress"]
+    if inlet == "velocity":  # the 2 ranks' checkpoint in one process: not put back yet, one line, exit 2
+        r = subprocess.run([*run, "--resume", str(tmp_path / "two"), "--end-time", str(2 * t_end)],
+                           capture_output=True, text=True, timeout=120, env=_env())
         lines = [s for s in r.stderr.splitlines() if s.strip()]
-        assert r.returncode == 2 and lines and "open boundaries resumes in one process" in lines[0], r.stderr
+        assert r.returncode == 2 and len(lines) == 1 and "resumes on the number of MPI ranks" in lines[0], r.stderr
+    else:  # stopped at t_end / 2 and resumed on 2 ranks: bitwise the run in one go
+        half = tmp_path / "half.toml"
+        shoal.write_case(case.model_copy(update={"end_time": 0.5 * t_end}), half)
+        for extra in ([str(half), "--out", str(tmp_path / "half")], ["--resume", str(tmp_path / "half"),
+                                                                       "--end-time", str(t_end)]):
+            r = subprocess.run([*mpiexec, "-n", "2", *run, *extra], capture_output=True, text=True, timeout=120,
+                               env=_env())
+            assert r.returncode == 0, r.stdout[-1000:] + r.stderr[-2000:]
+        (man_a, sa), (man_b, sb) = _mpi_final_state(tmp_path / "two"), _mpi_final_state(tmp_path / "half")
+        assert man_a["step"] == man_b["step"] and man_a["time"] == man_b["time"]
+        for k in ("pos", "vel", "rho", "kind", "idp"):
+            assert np.array_equal(sa[k], sb[k]), k
+        assert all(np.array_equal(x, y) for x, y in zip(sa["extra"], sb["extra"]))

@@ -271,11 +271,11 @@ def _restore_redistributed(sim, ck):
 
 
 def _no_open_boundaries(model):
-    """Refuse to resume on several ranks, or from several ranks' checkpoint, a case with open boundaries (its
-    ranks' particle counts and ids change during the run: not put back yet)."""
+    """Refuse to resume a case with open boundaries on another number of ranks than wrote the checkpoint (its
+    particle count and ids changed during the run: the re-cut and the union are not put back yet)."""
     if model.buffers is not None:
-        raise CheckpointError("a run with open boundaries resumes in one process from a one-process checkpoint "
-                              "only, for now (not on MPI ranks, nor from their checkpoint)")
+        raise CheckpointError("a run with open boundaries resumes on the number of MPI ranks that wrote its "
+                              "checkpoint (one process from a one-process checkpoint), for now")
 
 
 def restore_rank(sim, ck):
@@ -288,12 +288,14 @@ def restore_rank(sim, ck):
         The checkpoint does not match the model or the Simulation.
     """
     m = sim.model
-    _no_open_boundaries(m)
     mm = ck.meta["model"]
-    if mm["n_total"] != m.n_global or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
+    # with open boundaries the particle count changes (`shoal.particle_buffers`): the checkpoint's holds
+    same_count = m.buffers is not None or mm["n_total"] == m.n_global
+    if not same_count or mm["dim"] != m.dim or mm["dtype"] != np.dtype(m.dtype).str:
         raise CheckpointError(f"{ck.path.name} holds {mm['n_total']} particles ({mm['dim']}D, {mm['dtype']}); "
                               f"this case has {m.n_global} ({m.dim}D, {np.dtype(m.dtype).str})")
     if ck.meta["mpi"].get("redistribute"):
+        _no_open_boundaries(m)
         return _restore_redistributed(sim, ck)
     arrays = {k[len("mpi/"):]: v for k, v in ck.other.items() if k.startswith("mpi/")}
     try:
@@ -301,6 +303,8 @@ def restore_rank(sim, ck):
     except (ValueError, KeyError) as err:
         raise CheckpointError(f"{ck.path.name}: {err}") from None
     restore_scalars(sim, ck)
+    if m.buffers is not None:
+        m.n_global = m.n_total  # the count over every rank, as the checkpoint's (restore_scalars)
 
 
 # the Model arrays indexed by particle id, not by row (they do not follow the sort; a DistributedModel
