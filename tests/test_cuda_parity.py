@@ -874,7 +874,8 @@ def test_open_boundaries_match_cpu():
     domain the outlet's) and whose inlet level jumps from 0.2 to 0.3 m (two rows lifted into its buffer), one
     exchange converts, creates and removes the same particles with the same ids, and imposes the same
     velocities and densities (the outlet's from the water at the mirror images); then a few steps end with
-    the same particles within 1e-9 m (float64)."""
+    the same particles within 1e-9 m (float64), the fluid's shifted (``shifting = "delta_plus"``) and the
+    buffers' not (the ``hold_shift`` kernel)."""
     from shoal.case import Case, Fluid, FluidRegion, Solid
     from shoal.geometry.shapes import Box
     from shoal.open_boundary import OpenBoundary
@@ -883,7 +884,8 @@ def test_open_boundaries_match_cpu():
     dp, depth, length = 0.04, 0.2, 0.4
     level = TimeSeries(t=[0.0, 1e-5], value=[depth, 0.3])
     case = Case(name="channel", dim=2, dp=dp, fluid=Fluid(depth=depth, surface_level=depth),
-                options={"precision": "float64", "wall_pressure": "adami", "visco_bound_factor": 0.0},
+                options={"precision": "float64", "wall_pressure": "adami", "visco_bound_factor": 0.0,
+                         "shifting": "delta_plus"},
                 solids=[Solid(name="bed", shape=Box(lo=(-0.2, 0, -3 * dp), hi=(length + 0.2, 0, 0)), layers=3)],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(length, 0, depth)), velocity=(0.2, 0, 0))],
                 open_boundaries=[

@@ -65,9 +65,6 @@ def build_model(case, backend="cpu"):
     if case.open_boundaries:
         from .particle_buffers import BufferZones
 
-        if case.options.shifting != "none":
-            raise InputError(f"options.shifting = {case.options.shifting!r} with open boundaries: shifting would "
-                             "move the buffers' particles off their lattice; use shifting = \"none\"")
         model.buffers = BufferZones(model, case.open_boundaries, p.zone, case.lattice_origin,
                                     float(np.linalg.norm(fl.gravity)))
     model.body_of = p.body.astype(np.int32)  # the solid of each particle id (-1: fluid), for force gauges

@@ -437,7 +437,8 @@ class Model:
         Three passes over the positions of the step's end, then one that moves them: the wet walls and
         the free-surface flags (`free_surface`'s), each particle's shift delta r_i = -C Ma (2h)^2
         sum_j [1 + R (W_ij / W(dp))^4] grad_i W_ij V_j (tangential at and near the free surface, capped
-        at 0.1 dp) into a buffer, then r_i += delta r_i, so no shift reads a moved neighbour. C is
+        at 0.1 dp) into a buffer, then r_i += delta r_i, so no shift reads a moved neighbour. The open
+        boundaries' buffer particles are not shifted (`shoal.particle_buffers.BufferZones.hold_shift`). C is
         ``shifting_coef``, Ma = U_max / c0. The ghosts of a distributed model are refreshed first (their
         own shifts are computed and dropped: the next sort replaces them); no array is allocated."""
         self.refresh_ghosts()
@@ -452,6 +453,8 @@ class Model:
                                          g.gdims_arr, self.P, self.planes, wet, surface))
         b.timed(b.shift, self.n, (self.pos, self.rho, self.kind, g.cell, g.cell_start, g.gdims_arr, self.P,
                                   self.planes, wet, surface, float(coef), 0.1 * self.dp, out))
+        if self.buffers is not None:
+            self.buffers.hold_shift(self, out)
         b.timed(b.shift_apply, self.n, (self.pos, self.kind, out))
 
     def apply_damping(self, zones, dt):

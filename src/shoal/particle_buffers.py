@@ -544,6 +544,12 @@ class BufferZones:
         b = model.backend
         b.timed(b.hold_buffers, model.n, (self.zone, model.ace, model.drho, model.xsph))
 
+    def hold_shift(self, model, out):
+        """Zero the buffer rows' particle shifts in `out` (between the shift and its application,
+        `shoal.model.Model.apply_shifting`; the backends' ``hold_shift`` kernel): a buffer keeps its lattice."""
+        b = model.backend
+        b.timed(b.hold_shift, model.n, (self.zone, out))
+
     # --------------------------------------------------------------- the step
     def exchange(self, dt=0.0, t=0.0):
         """Impose the buffers' state, convert, create and remove particles (module docstring); `dt` [s] is the

@@ -4,14 +4,14 @@
 `shoal.timestepping.updates` (the integrators' updates) with a backend's decorator and wraps each in
 that backend's particle loop, so both backends expose the same kernels
 (``pr2``, ``rates``, ``sps``, ``shepard``, ``mls``, ``verlet``, ``save_state``,
-``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``hold_buffers``, ``shift``,
-``shift_apply``, ``move_bodies``, ``rotate_wall_vectors``, ``wrap_periodic``) from one source.
+``half_step``, ``symplectic_correct``, ``pc_correct``; ``damp``, ``relax``, ``hold_buffers``,
+``hold_shift``, ``shift``, ``shift_apply``, ``move_bodies``, ``rotate_wall_vectors``, ``wrap_periodic``) from one source.
 """
 
 from ..neighbours.gather import make_gather
 from ..physics import build_physics
 from ..physics.body_motion import make_body_motion, make_wall_vector_rotation
-from ..physics.buffer_hold import make_buffer_hold
+from ..physics.buffer_hold import make_buffer_hold, make_shift_hold
 from ..physics.damping import make_damping
 from ..physics.periodic_wrap import make_periodic_wrap
 from ..physics.relaxation import make_relaxation
@@ -49,6 +49,7 @@ def attach_loops(backend, jit, for_each, spec, target):
     backend.damp = for_each(make_damping(phys.named_jit, spec))
     backend.relax = for_each(make_relaxation(phys.named_jit, spec))
     backend.hold_buffers = for_each(make_buffer_hold(phys.named_jit, spec))
+    backend.hold_shift = for_each(make_shift_hold(phys.named_jit, spec))
     shift, shift_apply = make_shifting(phys.named_jit, spec, (phys.w, phys.grad_factor), phys.surface_normal,
                                        make_gather, phys.unpack)
     backend.shift = for_each(shift)
