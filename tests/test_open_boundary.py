@@ -438,3 +438,50 @@ def test_particle_shifting_leaves_the_buffers_on_their_lattice():
     assert off["buffer"] < 1e-6 * dp
     assert off["fluid"] > 0.01 * dp
     assert rec["fluid"][-1] + rec["buffer"][-1] == rec["fluid"][0] + rec["buffer"][0] + b.created - b.removed
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_first_order_extrapolation_carries_a_linear_field_exactly(dim):
+    """An outlet takes the water's velocity and density from around each buffer particle's mirror image. With
+    ``extrapolation = "first_order"`` (Tafuni et al. 2018) a linear field, u = (0.2 + 0.5 x, 0.1 y, -0.3 z)
+    and rho = 1000 + 20 x - 10 z, reaches every buffer particle exactly (float64: within 1e-9), next to the
+    bed and the free surface too (their one-sided supports still determine a linear field). The Shepard
+    average of the mirror image (the default, ``extrapolation = "shepard"``) gives the field at the mirror
+    image, off by the gradient times the distance 2 |d| to it: for u_x, 0.5 (2 |d|) at the particles with
+    2 |d| >= 0.8 h."""
+    from shoal.runner import build_model
+
+    dp, L, W, d = 0.02, 0.4, 0.1, 0.1
+    lo_y, hi_y = (0.0, 0.0) if dim == 2 else (0.0, W)
+    solid = (Solid(name="bed", shape=Box(lo=(-0.2, lo_y, -4 * dp), hi=(L + 0.2, hi_y, 0))) if dim == 2 else
+             Solid(name="bed", shape=Box(lo=(-0.2, -4 * dp, -4 * dp), hi=(L + 0.2, W + 4 * dp, 0))))
+    errors = {}
+    for mode in ("first_order", "shepard"):
+        case = Case(name="channel", dim=dim, dp=dp, end_time=0.1, fluid=Fluid(depth=d, surface_level=d),
+                    options=SPHOptions(precision="float64", wall_pressure="adami", visco_bound_factor=0.0),
+                    solids=[solid],
+                    fluids=[FluidRegion(shape=Box(lo=(0, lo_y, 0), hi=(L, hi_y, d)))],
+                    open_boundaries=[OpenBoundary(name="out", point=(L, 0, 0), normal=(-1, 0, 0), lo=(L, lo_y, 0),
+                                                  hi=(L, hi_y, d), extrapolation=mode)])
+        m = build_model(case)
+        m.sort()
+        x = m.world_positions(active_only=False)[: m.n]
+        zone, kind = m.host(m.buffers.zone)[: m.n], m.host(m.kind)[: m.n]
+        u = np.stack([0.2 + 0.5 * x[:, 0], 0.1 * x[:, 1], -0.3 * x[:, 2]], axis=1)
+        rho = 1000.0 + 20.0 * x[:, 0] - 10.0 * x[:, 2]
+        water = (zone == 0) & (kind == FLUID)
+        vel, den = m.host(m.vel), m.host(m.rho)
+        vel[: m.n][water] = u[water] if dim == 3 else u[water][:, [0, 2]]
+        den[: m.n][water] = rho[water]
+        m.buffers.exchange(0.0, 0.0)
+        buf = m.host(m.buffers.zone)[: m.n] == 1
+        assert buf.sum() == (4 * 5 * 5 if dim == 3 else 3 * 5)  # rows x heights (x widths)
+        got = m.host(m.vel)[: m.n][buf]
+        want = u[buf] if dim == 3 else u[buf][:, [0, 2]]
+        errors[mode] = (np.abs(got - want).max(), np.abs(m.host(m.rho)[: m.n][buf] - rho[buf]).max(),
+                        np.abs(got[:, 0] - want[:, 0]), x[buf, 0] - L)
+    du, drho, _, _ = errors["first_order"]
+    assert du < 1e-9 and drho < 1e-9
+    _, _, dux, depth = errors["shepard"]
+    deep = 2 * depth >= 0.8 * m.h
+    assert np.allclose(dux[deep], 0.5 * 2 * depth[deep], rtol=0.25)

@@ -82,17 +82,37 @@ def _impose(n, pos, vel, rho, zone, axis, sign, imposed, pz, pu, pm, hydro, leve
             rho[i] = rho0 * (1.0 + p_fixed[k] / B) ** (1.0 / 7.0)
 
 
+DETERMINANT_LIMIT = 1e-3
+"""Below this determinant of the normalised first-order system a mirror image takes the Shepard average
+(`_extrapolate`), as DualSPHysics's ``determlimit`` does for its first-order extrapolation."""
+
+
 @njit(cache=True)
-def _extrapolate(n, pos, vel, rho, kind, zone, axis, x0, imposed, rho_extra, cell_start, gdims, glo, inv_cs, ncs,
-                 h):
+def _extrapolate(n, pos, vel, rho, kind, zone, axis, x0, imposed, rho_extra, first, mass, cell_start, gdims, glo,
+                 inv_cs, ncs, h, work):
     """The velocity of the buffer rows of the boundaries that impose none, and the density of those whose
-    density is extrapolated: Shepard averages of the domain's fluid (zone 0) around the particle's mirror image
-    across the plane, x_g = x + 2 |d| n (at the particle's height: the planes are vertical, so no hydrostatic
-    correction), with the Wendland shape (1 - q/2)^4 (2 q + 1), q = |x_g - x_j| / h (the normalisation
-    cancels)."""
+    density is extrapolated, from the domain's fluid (zone 0) around each particle's mirror image across the
+    plane, x_g = x_b + 2 |d| n (at the particle's height: the planes are vertical).
+
+    First order (``first[k]``; Tafuni, Dominguez, Vacondio & Crespo 2018, as DualSPHysics): the value f_g and
+    gradient grad f_g at x_g solve the corrected-kernel system (r_j = x_j - x_g, V_j = m / rho_j)
+
+        sum_j V_j W_gj [1, r_j] . [f_g, grad f_g] = sum_j V_j W_gj f_j,
+        sum_j V_j dW_gj/dx_g,d [1, r_j] . [f_g, grad f_g] = sum_j V_j dW_gj/dx_g,d f_j   (each axis d),
+
+    which a linear field satisfies exactly, and the particle takes f_b = f_g + (x_b - x_g) . grad f_g. Where
+    the support is too empty for it (a mirror image beside the free surface or a corner: the determinant of
+    the system, normalised so that a full support gives 1, below `DETERMINANT_LIMIT`), and for the boundaries
+    that ask for it (``extrapolation = "shepard"``), the Shepard average sum_j W_gj f_j / sum_j W_gj. The
+    kernel is the Wendland shape (1 - q/2)^4 (2 q + 1), q = |r_j| / h, whose gradient with respect to x_g is
+    5 (1 - q/2)^3 r_j / h^2; its normalisation cancels. `work` is a (4, 8) float64 scratch array."""
     dim = pos.shape[1]
     nx, ny, nz = gdims[0], gdims[1], gdims[2]
     supp2 = 4.0 * h * h
+    inv_h2 = 1.0 / (h * h)
+    # the integral of the kernel's shape over its support: a full support's sum_j V_j W_gj
+    full = 4.0 * math.pi * h * h / 7.0 if dim == 2 else 16.0 * math.pi * h * h * h / 21.0
+    m1 = dim + 1  # unknowns: f and its gradient
     for i in range(n):
         t = zone[i]
         if t <= 0 or (imposed[t - 1] and not rho_extra[t - 1]):
@@ -112,6 +132,10 @@ def _extrapolate(n, pos, vel, rho, kind, zone, axis, x0, imposed, rho_extra, cel
         else:
             iy = 0
             iz = int((gz - glo[1]) * inv_cs)
+        # work[a, :m1]: the system's row a; work[a, 4 + c]: its right-hand side for field c (u_x, u_y, u_z, rho)
+        for a in range(4):
+            for c in range(8):
+                work[a, c] = 0.0
         s = 0.0
         ux = 0.0
         uy = 0.0
@@ -127,28 +151,98 @@ def _extrapolate(n, pos, vel, rho, kind, zone, axis, x0, imposed, rho_extra, cel
                 for j in range(cell_start[row + x_lo], cell_start[row + x_hi + 1]):
                     if kind[j] != FLUID or zone[j] != 0:
                         continue
-                    dx = gx - pos[j, 0]
-                    dz = gz - pos[j, dim - 1]
-                    dy = gy - pos[j, 1] if dim == 3 else 0.0
-                    r2 = dx * dx + dy * dy + dz * dz
+                    rx = pos[j, 0] - gx
+                    rz = pos[j, dim - 1] - gz
+                    ry = pos[j, 1] - gy if dim == 3 else 0.0
+                    r2 = rx * rx + ry * ry + rz * rz
                     if r2 >= supp2:
                         continue
                     q = math.sqrt(r2) / h
-                    w = (1.0 - 0.5 * q) ** 4 * (2.0 * q + 1.0)
+                    a3 = (1.0 - 0.5 * q) ** 3
+                    w = a3 * (1.0 - 0.5 * q) * (2.0 * q + 1.0)
                     s += w
                     sr += w * rho[j]
                     ux += w * vel[j, 0]
                     uz += w * vel[j, dim - 1]
                     if dim == 3:
                         uy += w * vel[j, 1]
-        if s > 0.0:
-            if not imposed[k]:
-                vel[i, 0] = ux / s
-                vel[i, dim - 1] = uz / s
-                if dim == 3:
-                    vel[i, 1] = uy / s
-            if rho_extra[k]:
-                rho[i] = sr / s
+                    if not first[k]:
+                        continue
+                    v = mass / rho[j]
+                    g = 5.0 * a3 * inv_h2 * v
+                    for a in range(m1):
+                        # row 0: V W; row 1 + d: V dW/dx_g,d (axes x, (y), z)
+                        if a == 0:
+                            wa = v * w
+                        elif a == 1:
+                            wa = g * rx
+                        elif a == m1 - 1:
+                            wa = g * rz
+                        else:
+                            wa = g * ry
+                        work[a, 0] += wa
+                        work[a, 1] += wa * rx
+                        if dim == 3:
+                            work[a, 2] += wa * ry
+                        work[a, m1 - 1] += wa * rz
+                        work[a, 4] += wa * vel[j, 0]
+                        if dim == 3:
+                            work[a, 5] += wa * vel[j, 1]
+                        work[a, 6] += wa * vel[j, dim - 1]
+                        work[a, 7] += wa * rho[j]
+        if s <= 0.0:
+            continue
+        fx = ux / s
+        fy = uy / s
+        fz = uz / s
+        fr = sr / s
+        if first[k]:
+            # Gaussian elimination with partial pivoting on the normalised system; det = the pivots' product
+            det = 1.0
+            for a in range(m1):
+                for c in range(8):
+                    work[a, c] /= full
+            for c in range(m1):
+                p = c
+                for a in range(c + 1, m1):
+                    if abs(work[a, c]) > abs(work[p, c]):
+                        p = a
+                if p != c:
+                    det = -det
+                    for b in range(8):
+                        tmp = work[c, b]
+                        work[c, b] = work[p, b]
+                        work[p, b] = tmp
+                piv = work[c, c]
+                det *= piv
+                if piv == 0.0:
+                    break
+                for a in range(c + 1, m1):
+                    f = work[a, c] / piv
+                    if f != 0.0:
+                        for b in range(c, 8):
+                            work[a, b] -= f * work[c, b]
+            if abs(det) >= DETERMINANT_LIMIT:
+                for b in range(4, 8):  # back substitution, field by field, into work[:, b]
+                    for a in range(m1 - 1, -1, -1):
+                        acc = work[a, b]
+                        for c in range(a + 1, m1):
+                            acc -= work[a, c] * work[c, b]
+                        work[a, b] = acc / work[a, a]
+                # f_b = f_g + (x_b - x_g) . grad f_g: x_b - x_g lies along the normal's axis
+                step = pos[i, 0] - gx if axis[k] == 0 else pos[i, 1] - gy
+                col = 1 + axis[k] if dim == 3 else 1
+                fx = work[0, 4] + step * work[col, 4]
+                fy = work[0, 5] + step * work[col, 5]
+                fz = work[0, 6] + step * work[col, 6]
+                fr = work[0, 7] + step * work[col, 7]
+        if not imposed[k]:
+            vel[i, 0] = fx
+            vel[i, dim - 1] = fz
+            if dim == 3:
+                vel[i, 1] = fy
+        if rho_extra[k]:
+            rho[i] = fr
 
 
 @njit(cache=True)
@@ -494,6 +588,9 @@ class BufferZones:
         self.fixed = np.array([z.density_mode == "fixed" for z in self.zones], np.bool_)
         self.p_fixed = np.array([z.pressure or 0.0 for z in self.zones], np.float64)
         self.rho_extra = np.array([z.density_mode == "extrapolated" for z in self.zones], np.bool_)
+        self.first = np.array([z.extrapolation == "first_order" for z in self.zones], np.bool_)
+        """The boundaries that extrapolate to first order (Tafuni et al. 2018), the others Shepard averages."""
+        self._work = np.zeros((4, 8), np.float64)
         self.level = np.array([z.level_at(0.0) if z.level is not None else math.inf for z in self.zones], np.float64)
         self.riemann = np.array([z.holds_level for z in self.zones], np.bool_)
         self.imposed |= self.riemann
@@ -571,8 +668,8 @@ class BufferZones:
             self._hold_levels(dt)
         gh = self._ghosts()
         pos, vel, rho, kind, zone = (H(a) for a in self._state())
-        _extrapolate(n, pos, vel, rho, kind, zone, self.axis, self.x0, self.imposed, self.rho_extra, *grid,
-                     int(m.options.cells_per_support), m.h)
+        _extrapolate(n, pos, vel, rho, kind, zone, self.axis, self.x0, self.imposed, self.rho_extra, self.first,
+                     m.mass, *grid, int(m.options.cells_per_support), m.h, self._work)
         _impose(n, pos, vel, rho, zone, self.axis, self.sign, self.imposed, self.pz, self.pu, self.pm,
                 self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         while True:
