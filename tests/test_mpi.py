@@ -1162,8 +1162,8 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     the water within 0.01 dp of the single-process run, the same volume through a flow gauge. With an inlet of imposed velocity and an outlet that
     takes twice as much (the fluid drains: max_escaped_fraction = 0.005 must not count what the outlet removed as
     escaped); and with an inlet holding a level that rises 0.05 m (rows lifted into its buffer) against an
-    outlet that takes 0.2 m/s, the slab cut inside the inlet's band (its depth and speed summed over both
-    ranks). Stopped halfway and resumed on 2 ranks, that run ends bitwise as the run in one go; the first one's
+    outlet that takes 0.2 m/s with its level following the water (``level_mode = "water"``), the slab cut
+    inside both boundaries' bands (their depths and the inlet's speed summed over both ranks). Stopped halfway and resumed on 2 ranks, that run ends bitwise as the run in one go; the first one's
     checkpoint resumed in one process is refused in one line (the union of the ranks' particles is not put
     back yet with open boundaries)."""
     import re
@@ -1183,7 +1183,7 @@ def test_open_boundaries_two_ranks_match_one(mpiexec, tmp_path, inlet):
     else:
         ins = dict(velocity_mode="riemann", relaxation_time=0.02,
                    level=TimeSeries(t=[0.0, t_end], value=[d, d + 0.05]))
-        outs = dict(level=d, velocity=-0.2)
+        outs = dict(level=d, velocity=-0.2, level_mode="water")
     case = Case(name="channel", dim=2, dp=dp, end_time=t_end, fluid=Fluid(depth=d, surface_level=d),
                 max_escaped_fraction=0.005,  # what an outlet removes has not escaped
                 options={"wall_pressure": "adami", "visco_bound_factor": 0.0}, output=Output(interval=t_end),

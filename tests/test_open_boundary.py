@@ -64,6 +64,11 @@ def test_buffer_lattice_continues_the_fluid_behind_the_plane():
     (dict(velocity_mode="riemann", velocity=0.2), "either imposed"),
     (dict(velocity_mode="riemann", level=-0.1), "not above the bottom of the section"),
     (dict(velocity_mode="riemann", relaxation_time=0.0), "greater than 0"),
+    (dict(level_mode="water", level=None), "follows the water from a starting level"),
+    (dict(level_mode="water", level=TimeSeries(t=[0, 1], value=[0.2, 0.3])), "give level = a number"),
+    (dict(level_mode="water", discharge=0.04), 'level_mode = "water" with a discharge'),
+    (dict(level_mode="water", velocity_mode="riemann"), 'with velocity_mode = "riemann"'),
+    (dict(level_mode="rising"), "'imposed' or 'water'"),
 ])
 def test_a_bad_boundary_is_one_clear_error(change, message):
     base = dict(name="in", point=(0, 0, 0), normal=(1, 0, 0), lo=(0, 0, 0), hi=(0, 0, 0.4), level=0.2)
@@ -485,3 +490,81 @@ def test_first_order_extrapolation_carries_a_linear_field_exactly(dim):
     _, _, dux, depth = errors["shepard"]
     deep = 2 * depth >= 0.8 * m.h
     assert np.allclose(dux[deep], 0.5 * 2 * depth[deep], rtol=0.25)
+
+
+def still_tank_with_outlet(level_mode, depth=0.24, start_level=0.2, dp=0.02):
+    """Still water `depth` deep between a closed end at x = 0 and an outlet at x = 1 m whose buffer starts
+    filled to `start_level` (velocity from the water inside, hydrostatic density from the level)."""
+    return Case(name="tank", dim=2, dp=dp, end_time=1.5, fluid=Fluid(depth=depth, surface_level=depth),
+                options=SPHOptions(wall_pressure="adami", visco_bound_factor=0.0),
+                solids=[Solid(name="bed", shape=Box(lo=(-4 * dp, 0, -4 * dp), hi=(1.3, 0, 0))),
+                        Solid(name="end", shape=Box(lo=(-4 * dp, 0, 0), hi=(0, 0, 0.5)))],
+                fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(1.0, 0, depth)))],
+                open_boundaries=[OpenBoundary(name="out", point=(1.0, 0, 0), normal=(-1, 0, 0), lo=(1.0, 0, 0),
+                                              hi=(1.0, 0, 0.5), level=start_level, level_mode=level_mode)],
+                output=Output(interval=1.5))
+
+
+@pytest.mark.parametrize("level_mode", ["water", "imposed"])
+def test_an_outlet_that_follows_the_water_keeps_still_water_still(level_mode):
+    """Still water 0.24 m deep (12 rows at dp = 0.02 m) against an outlet whose buffer starts filled to 0.2 m.
+    With ``level_mode = "water"`` the buffer rises to the water's level (its top row within dp of the water's,
+    0.23 m, from 0.1 s on) and the water stays still: after 1.5 s its depth 0.5 m from the outlet is within dp/2
+    of 0.24 m and the domain has lost less than 1 % of its particles. With the level imposed at 0.2 m the water above it next to the plane has no
+    neighbours beyond it and pours out over the buffer: the depth falls by more than 2 dp (the contrast shows
+    the test can fail)."""
+    from shoal.runner import build_model
+    from shoal.simulation import Simulation, TimeInterval
+
+    case = still_tank_with_outlet(level_mode)
+    dp = case.dp
+    model = build_model(case)
+    b = model.buffers
+    tops = []
+
+    def sample(s):
+        m = s.model
+        z = m.world_positions(active_only=False)[: m.n, 2]
+        tops.append((s.time, float(z[m.host(b.zone)[: m.n] == 1].max())))
+
+    sim = Simulation(model, case.end_time)
+    sim.add_callback(sample, TimeInterval(0.1))
+    n0 = int(np.count_nonzero((model.host(model.kind) == FLUID) & (model.host(b.zone)[: model.n] == 0)))
+    all0 = model.n_fluid  # the domain's and the buffer's
+    sim.run()
+    p = model.world_positions()
+    water = (model.host(model.kind) == FLUID) & (model.host(b.zone)[: model.n] == 0)
+    near = water & (np.abs(p[:, 0] - 0.5) < dp)
+    depth = p[near, 2].max() + 0.5 * dp
+    lost = n0 - int(np.count_nonzero(water))
+    print(level_mode, f"depth {depth:.4f} m, buffer top {tops[1]} .. {tops[-1]}, particles lost {lost} of {n0}")
+    assert model.n_fluid == all0 + b.created - b.removed
+    if level_mode == "water":
+        assert all(abs(top - (0.24 - 0.5 * dp)) < dp for t, top in tops[1:])
+        assert abs(depth - 0.24) < 0.5 * dp
+        assert abs(lost) < 0.01 * n0
+    else:
+        assert depth < 0.24 - 2 * dp
+
+
+def test_an_outlet_that_follows_the_water_resumes_bitwise(tmp_path):
+    """Issue 33, must-show 6 for ``level_mode = "water"``: the still tank run to 0.04 s in one go, and to 0.02 s
+    then resumed to 0.04 s, its outlet's buffer risen at the first step from 0.2 m to the water's level and its
+    level taken from the water at every step: the same particles, positions, velocities and densities, bit
+    for bit."""
+    import shoal
+
+    def tank(end):
+        return still_tank_with_outlet("water").model_copy(
+            update=dict(end_time=end, output=Output(interval=0.01))).revalidate()
+
+    full = shoal.run_case(tank(0.04), tmp_path / "full", plot=False, progress=False)
+    shoal.run_case(tank(0.02), tmp_path / "half", plot=False, progress=False)
+    resumed = shoal.resume_run(tmp_path / "half", end_time=0.04, plot=False, progress=False)
+    a, b = full.model, resumed.model
+    assert a.buffers.created > 0
+    assert (a.buffers.created, a.buffers.removed, a.buffers.next_id, a.n) == \
+        (b.buffers.created, b.buffers.removed, b.buffers.next_id, b.n)
+    for name in ("idp", "pos", "vel", "rho", "kind"):
+        assert np.array_equal(a.host(getattr(a, name)), b.host(getattr(b, name))), name
+    assert np.array_equal(a.buffers.zone[:a.n], b.buffers.zone[:b.n])

@@ -84,6 +84,8 @@ def open_boundary_lines(case):
         level = ob.level_bounds(0.0, case.end_time)
         if level is not None and level[0] != level[1]:
             head += f"; level from {level[0]:g} to {level[1]:g} m over the run (a time series)"
+        if ob.follows_water:
+            head += f"; level {ob.level:g} m at the start, then the water's next to the plane"
         if ob.holds_level:
             held = f"the level {level[0]:g} m" if level[0] == level[1] else "it"
             lines.append(head + f"; holds {held} (velocity from the Riemann invariant, mean over "

@@ -114,6 +114,16 @@ class OpenBoundary(Spec):
     relaxation_time : float
         With ``velocity_mode = "riemann"``: the time over which the running mean of the water's speed at the
         plane is taken [s] (longer than the waves it should let out).
+    level_mode : {"imposed", "water"}
+        ``"imposed"`` (the default): the buffer is filled to `level` (a number or a time series).
+        ``"water"``: `level` is the starting level, then the buffer follows the water inside: at every step
+        its level is the bottom of the section plus the water's depth next to the plane (the particles'
+        volumes in a band three kernel supports long, the band of ``velocity_mode = "riemann"``), capped at
+        the section's top, and the buffer is filled to it (rows added and removed) with the hydrostatic
+        density from it, as DualSPHysics's inlet/outlet with its surface calculated from the fluid. For an
+        outlet where the water's depth changes (waves, a surge or a flood leaving the domain); not with a
+        discharge (spread over a depth that would follow the flow it sets) or ``velocity_mode = "riemann"``
+        (which holds its level).
     extrapolation : {"shepard", "first_order"}
         How what is taken from the water (the velocity where none is imposed, an extrapolated density) is
         carried to a buffer particle from the water around its mirror image: the Shepard average at the mirror
@@ -139,6 +149,7 @@ class OpenBoundary(Spec):
     pressure: Real | None = None
     velocity_mode: Literal["extrapolated", "riemann"] | None = None
     relaxation_time: Annotated[float, Field(gt=0, allow_inf_nan=False)] = 3.0
+    level_mode: Literal["imposed", "water"] = "imposed"
     extrapolation: Literal["shepard", "first_order"] = "shepard"
 
     @model_validator(mode="after")
@@ -163,6 +174,14 @@ class OpenBoundary(Spec):
                 and self.level <= min(self.lo[2], self.hi[2])):
             raise ValueError(f'velocity_mode = "riemann": level = {self.level:g} m is not above the bottom of the '
                              f'section ({min(self.lo[2], self.hi[2]):g} m, the bed there)')
+        if self.level_mode == "water":
+            if self.level is None or isinstance(self.level, TimeSeries):
+                raise ValueError('level_mode = "water" follows the water from a starting level: give level = a '
+                                 'number (the level at the start)')
+            if self.discharge is not None or self.velocity_mode == "riemann":
+                what = "a discharge" if self.discharge is not None else 'velocity_mode = "riemann"'
+                raise ValueError(f'level_mode = "water" with {what}: a buffer that follows the water takes an '
+                                 'imposed velocity or profile, or the water\'s (an outlet)')
         if self.discharge is not None and self.level is None:
             raise ValueError("a discharge needs the level of the water at the boundary (level = ...), over "
                              "which it is spread")
@@ -194,6 +213,11 @@ class OpenBoundary(Spec):
         if self.pressure is not None:
             return "fixed"
         return "hydrostatic" if self.level is not None else "extrapolated"
+
+    @property
+    def follows_water(self):
+        """True when the buffer's level follows the water inside (``level_mode = "water"``)."""
+        return self.level_mode == "water"
 
     @property
     def holds_level(self):

@@ -572,7 +572,9 @@ class BufferZones:
                     self.imposed[k] = True
         self.varies = [k for k, z in enumerate(self.zones) if z.varies]
         """The boundaries whose velocity, discharge or level is a `shoal.time_series.TimeSeries`."""
-        self.follows = [k for k, z in enumerate(self.zones) if isinstance(z.level, TimeSeries)]
+        self.water = np.array([z.follows_water for z in self.zones], np.bool_)
+        """The boundaries whose level follows the water inside (`_follow_water`)."""
+        self.follows = [k for k, z in enumerate(self.zones) if isinstance(z.level, TimeSeries) or self.water[k]]
         """The boundaries whose buffer is filled to a level that changes in time (`_follow_levels`)."""
         self._columns = {}
         for k in self.follows:
@@ -601,6 +603,9 @@ class BufferZones:
         self.level_depth = np.array([z.level_at(0.0) - z.bed if z.holds_level else 0.0 for z in self.zones],
                                     np.float64)
         self._band = np.zeros((Z, 2))
+        self._band_water = np.zeros((Z, 2))
+        self.top = np.array([max(z.lo[2], z.hi[2]) for z in self.zones], np.float64)
+        """The top of each section [m]: a level that follows the water stops there."""
         self.mean_speed = np.full(Z, math.nan)
         """The running mean of the water's speed next to each level-holding plane [m/s] (`_hold_levels`; nan
         until the first exchange, which starts it at the water's speed then)."""
@@ -666,6 +671,8 @@ class BufferZones:
             self._follow_series(t)
         if self.riemann.any():
             self._hold_levels(dt)
+        if self.water.any():
+            self._follow_water()
         gh = self._ghosts()
         pos, vel, rho, kind, zone = (H(a) for a in self._state())
         _extrapolate(n, pos, vel, rho, kind, zone, self.axis, self.x0, self.imposed, self.rho_extra, self.first,
@@ -808,6 +815,19 @@ class BufferZones:
             _impose(n + total, H(m.pos), H(m.vel), H(m.rho), H(self.zone), self.axis, self.sign, self.imposed,
                     self.pz, self.pu, self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         return r, total, made
+
+    def _follow_water(self):
+        """The level of each boundary that follows the water: the section's bottom plus the depth of the water
+        in the band next to its plane (`_band_state`), at most the section's top."""
+        m = self.model
+        H = m.store.host_of
+        _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self._ghosts(), self.axis,
+                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, self.water, self._band_water)
+        if self.ranks:
+            self._band_water[:] = m.reduce_array(self._band_water, "sum")
+        for k in np.flatnonzero(self.water):
+            depth = self._band_water[k, 0] / self.width[k]
+            self.level[k] = min(self.zones[k].bed + depth, self.top[k])
 
     def _hold_levels(self, dt):
         """The speed of each boundary that holds its level, from the water next to its plane."""
