@@ -816,15 +816,19 @@ class BufferZones:
                     self.pz, self.pu, self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         return r, total, made
 
-    def _follow_water(self):
-        """The level of each boundary that follows the water: the section's bottom plus the depth of the water
-        in the band next to its plane (`_band_state`), at most the section's top."""
+    def _band_sums(self, which, out):
+        """`_band_state`'s sums for the boundaries `which` into `out`, over every rank."""
         m = self.model
         H = m.store.host_of
         _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self._ghosts(), self.axis,
-                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, self.water, self._band_water)
+                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, which, out)
         if self.ranks:
-            self._band_water[:] = m.reduce_array(self._band_water, "sum")
+            out[:] = m.reduce_array(out, "sum")
+
+    def _follow_water(self):
+        """The level of each boundary that follows the water: the section's bottom plus the depth of the water
+        in the band next to its plane (`_band_state`), at most the section's top."""
+        self._band_sums(self.water, self._band_water)
         for k in np.flatnonzero(self.water):
             depth = self._band_water[k, 0] / self.width[k]
             self.level[k] = min(self.zones[k].bed + depth, self.top[k])
@@ -833,12 +837,7 @@ class BufferZones:
         """The speed of each boundary that holds its level, from the water next to its plane."""
         from .open_boundary import riemann_speed
 
-        m = self.model
-        H = m.store.host_of
-        _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self._ghosts(), self.axis,
-                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, self.riemann, self._band)
-        if self.ranks:
-            self._band[:] = m.reduce_array(self._band, "sum")
+        self._band_sums(self.riemann, self._band)
         for k in np.flatnonzero(self.riemann):
             vol, flux = self._band[k]
             depth = vol / self.width[k]
