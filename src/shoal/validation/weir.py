@@ -72,11 +72,12 @@ class BroadCrestedWeir(ValidationCase):
 
     name = "weir"
     title = "Broad-crested weir against critical-flow theory"
-    cost = 110.0
+    cost = 135.0  # the quick run: 133 s on 2 threads (2026-12-06)
     setup = ("2D: a reservoir 0.6 m long held 0.2 m deep by an open boundary that holds its level "
              "(`velocity_mode = \"riemann\"`, running mean over 3 s) spills over a weir 0.1 m high (a 1:2 ramp, "
              "a flat crest 0.4 m long, H / L about 0.25) off whose end the water falls out of the flume; "
-             "free-slip bed and weir (Adami walls), alpha = 0.01, c0 = 10 sqrt(g y0), float32. Over the steady "
+             "free-slip bed and weir (Adami walls), alpha = 0.01, c0 = 10 sqrt(g y0), h = 1.3 sqrt(2) dp, float32. "
+             "Over the steady "
              "part of the run (5 to 8 s): q counted through the crest's middle, h1 the wave gauge at mid-reservoir. `--quick`: "
              "dp = 0.01 m (head 10 dp); `--full`: dp = 0.005 m (20 dp).")
     reference = ("Critical flow over a broad crest (Henderson 1966, section 6.5; Bos 1976): q = C sqrt(2 g) "
