@@ -17,7 +17,10 @@ take part in every pair term as fluid, but their own state is imposed, not integ
   (``"fixed"``).
 
 The velocity, the discharge and the level may each be a `shoal.time_series.TimeSeries` (a hydrograph, a
-tide): a buffer whose level changes is filled to the level of the moment.
+tide): a buffer whose level changes is filled to the level of the moment. With ``level_mode = "water"`` the
+level follows the water's depth next to the plane. What is taken from the water at the mirror image is its
+Shepard average there, or with ``extrapolation = "first_order"`` its value and gradient there carried back
+to the particle (Tafuni et al. 2018).
 
 Each step (as DualSPHysics's inlet/outlet zones, Tafuni et al. 2018): a buffer particle that crosses the plane
 into the domain becomes fluid and a new buffer particle is created `layers` dp behind it (the buffer refills
