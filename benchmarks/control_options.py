@@ -10,8 +10,10 @@ against 0.61 a for the sluice gate. A run that goes unstable prints where and wh
     python benchmarks/control_options.py weir '{"coef_h": 1.0, "dp": 0.005}'
     python benchmarks/control_options.py sluice-gate '{"coef_h": 1.2, "opening": 0.06}'
 
-Keys other than SPHOptions fields: "dp" [m]; "opening" [m] (sluice gate, default 0.06). Results of the
-study of 2026-12-06 (issue 33): `benchmarks/results/issue33/control_options.json`.
+Keys other than SPHOptions fields: "dp" [m]; "opening" [m] (sluice gate, default 0.06); "end_time" [s]
+(default: the end of the window the validation analyses; a shorter run runs, then stops with a one-line
+error). Results of the study of 2026-12-06 (issue 33):
+`benchmarks/results/issue33/control_options.json`.
 """
 
 from __future__ import annotations
@@ -34,17 +36,19 @@ def main(argv=None):
     over = json.loads(argv[1]) if len(argv) > 1 else {}
     dp = float(over.pop("dp", 0.01))
     opening = float(over.pop("opening", 0.06))
+    end_time = over.pop("end_time", None)
     if name == "weir":
         from shoal.cases.weir import WEIR_OPTIONS, weir_2d
         from shoal.validation import weir as v
 
-        case = weir_2d(dp=dp, upstream_depth=v.UPSTREAM_DEPTH, weir_height=v.WEIR_HEIGHT, end_time=v.WINDOW[1],
-                       options=SPHOptions(**{**WEIR_OPTIONS, **over}))
+        case = weir_2d(dp=dp, upstream_depth=v.UPSTREAM_DEPTH, weir_height=v.WEIR_HEIGHT,
+                       end_time=float(end_time or v.WINDOW[1]), options=SPHOptions(**{**WEIR_OPTIONS, **over}))
     else:
         from shoal.cases.sluice_gate import SLUICE_OPTIONS, sluice_gate_2d
         from shoal.validation import sluice_gate as v
 
-        case = sluice_gate_2d(dp=dp, upstream_depth=v.UPSTREAM_DEPTH, opening=opening, end_time=v.WINDOW[1],
+        case = sluice_gate_2d(dp=dp, upstream_depth=v.UPSTREAM_DEPTH, opening=opening,
+                              end_time=float(end_time or v.WINDOW[1]),
                               options=SPHOptions(**{**SLUICE_OPTIONS, **over}))
     out = dict(case=name, options=over, dp=dp)
     if name == "sluice-gate":
@@ -56,6 +60,9 @@ def main(argv=None):
             out["unstable"] = str(err).split(" (state written")[0]
             print(json.dumps(out, indent=1))
             return out
+        if case.end_time < v.WINDOW[1]:
+            raise ValueError(f"the run ended at t = {case.end_time:g} s, before the end of the window analysed "
+                             f"({v.WINDOW[0]:g}-{v.WINDOW[1]:g} s)")
         if name == "weir":
             m = v.steady_measures(Path(tmp) / "run")
             out.update(C=m["C"], C_error=m["C"] / v.C_IDEAL - 1, q=m["q_crest"], h1=m["h1"], head=m["head"],

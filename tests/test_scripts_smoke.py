@@ -393,3 +393,16 @@ def test_rip_current_analyse(tmp_path):
     assert sorted(res["pngs"]) == ["meanflow_current.png", "meanflow_setup.png"]
     assert all((out / name).stat().st_size > 1000 for name in res["pngs"])
     assert "channel mean cross-shore current U = -0.1000 m/s (offshore)" in r.stdout
+
+
+def test_control_options_tiny_run_ends_in_its_one_line_error():
+    """The weir at dp = 0.02 m to t = 0.02 s: the case runs with the options given and stops with its one-line
+    error (the validation's window, 5-8 s, not reached); an unknown option and an unknown case are refused in
+    one line."""
+    r = run(BENCH / "control_options.py", "weir", '{"dp": 0.02, "end_time": 0.02, "coef_h": 1.0}', expect=2)
+    assert r.stderr.strip().splitlines() == [
+        "control_options.py: the run ended at t = 0.02 s, before the end of the window analysed (5-8 s)"], r.stderr
+    r = run(BENCH / "control_options.py", "weir", '{"no_such_option": 1}', expect=2)
+    assert r.stderr.startswith("control_options.py: ") and "no_such_option" in r.stderr
+    r = run(BENCH / "control_options.py", "dam", expect=2)
+    assert "give the case: weir or sluice-gate" in r.stderr
