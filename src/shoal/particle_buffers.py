@@ -603,7 +603,10 @@ class BufferZones:
         self.level_depth = np.array([z.level_at(0.0) - z.bed if z.holds_level else 0.0 for z in self.zones],
                                     np.float64)
         self._band = np.zeros((Z, 2))
-        self._band_water = np.zeros((Z, 2))
+        self._banded = self.riemann | self.water
+        """The boundaries that read the water in the band next to their plane (`_band_sums`, one pass for all)."""
+        self._riemann_ids = np.flatnonzero(self.riemann)
+        self._water_ids = np.flatnonzero(self.water)
         self.top = np.array([max(z.lo[2], z.hi[2]) for z in self.zones], np.float64)
         """The top of each section [m]: a level that follows the water stops there."""
         self.mean_speed = np.full(Z, math.nan)
@@ -669,9 +672,9 @@ class BufferZones:
         grid = self._host_grid()
         if self.varies:
             self._follow_series(t)
-        if self.riemann.any():
+        if self._banded.any():
+            self._band_sums()
             self._hold_levels(dt)
-        if self.water.any():
             self._follow_water()
         gh = self._ghosts()
         pos, vel, rho, kind, zone = (H(a) for a in self._state())
@@ -816,29 +819,28 @@ class BufferZones:
                     self.pz, self.pu, self.pm, self.hydro, self.level, self.fixed, self.p_fixed, m.rho0, self.g, m.B)
         return r, total, made
 
-    def _band_sums(self, which, out):
-        """`_band_state`'s sums for the boundaries `which` into `out`, over every rank."""
+    def _band_sums(self):
+        """`_band_state`'s sums into `_band` for every boundary that holds its level or follows the water, in
+        one pass over the particles, over every rank."""
         m = self.model
         H = m.store.host_of
         _band_state(m.n, H(m.pos), H(m.vel), H(m.rho), H(m.kind), H(self.zone), self._ghosts(), self.axis,
-                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, which, out)
+                    self.sign, self.x0, self.band, self.tlo, self.thi, m.mass, self._banded, self._band)
         if self.ranks:
-            out[:] = m.reduce_array(out, "sum")
+            self._band[:] = m.reduce_array(self._band, "sum")
 
     def _follow_water(self):
         """The level of each boundary that follows the water: the section's bottom plus the depth of the water
         in the band next to its plane (`_band_state`), at most the section's top."""
-        self._band_sums(self.water, self._band_water)
-        for k in np.flatnonzero(self.water):
-            depth = self._band_water[k, 0] / self.width[k]
+        for k in self._water_ids:
+            depth = self._band[k, 0] / self.width[k]
             self.level[k] = min(self.zones[k].bed + depth, self.top[k])
 
     def _hold_levels(self, dt):
         """The speed of each boundary that holds its level, from the water next to its plane."""
         from .open_boundary import riemann_speed
 
-        self._band_sums(self.riemann, self._band)
-        for k in np.flatnonzero(self.riemann):
+        for k in self._riemann_ids:
             vol, flux = self._band[k]
             depth = vol / self.width[k]
             speed = flux / vol if vol > 0.0 else 0.0
