@@ -20,14 +20,14 @@ from shoal.neighbours.gather import make_gather
 from shoal.options import SPHOptions
 from shoal.physics.spec import SchemeSpec, make_params
 
-MAX_NB = 512
+MAX_NB = 1024
 _DRIVERS = {}
 
 
 def _driver(dim, cps, compact=False):
     """(spec, run) where run(n, pos, cell, cell_start, gdims, P, nb, count)
     writes every particle's neighbours into nb[i, :count[i]] (`compact`: the CPU's
-    branch-free row compaction)."""
+    branch-free row compaction and its term buffer)."""
     key = (dim, cps, compact)
     if key not in _DRIVERS:
         spec = SchemeSpec.from_options(SPHOptions(precision="float64", cells_per_support=cps), dim)
@@ -39,12 +39,37 @@ def _driver(dim, cps, compact=False):
                 nb[own, acc] = j
             return acc + 1
 
-        gather = make_gather(numba.njit, spec, record, compact=compact)
+        if compact:
+            # the compacted gather evaluates the pairs into a term buffer, then folds the terms in
+            # order: the term is the neighbour's index, and the fold records it
+            @numba.njit
+            def index_term(acc, own, j, dx, dy, dz, r2, sy, data, P):
+                return (np.float64(j),)
 
-        @numba.njit
-        def run(n, pos, cell, cell_start, gdims, P, nb, count):
-            for i in range(n):
-                count[i] = gather(i, i, 0, pos, cell, cell_start, gdims, (nb,), P)
+            @numba.njit
+            def put(T, m, t):
+                T[0, m] = t[0]
+
+            @numba.njit
+            def fold(acc, T, m):
+                count, nb, own = acc
+                if count < nb.shape[1]:
+                    nb[own, count] = np.int64(T[0, m])
+                return count + 1, nb, own
+
+            gather = make_gather(numba.njit, spec, index_term, compact=True, terms=((0.0,), put, fold))
+
+            @numba.njit
+            def run(n, pos, cell, cell_start, gdims, P, nb, count):
+                for i in range(n):
+                    count[i] = gather(i, i, (0, nb, i), pos, cell, cell_start, gdims, (nb,), P)[0]
+        else:
+            gather = make_gather(numba.njit, spec, record)
+
+            @numba.njit
+            def run(n, pos, cell, cell_start, gdims, P, nb, count):
+                for i in range(n):
+                    count[i] = gather(i, i, 0, pos, cell, cell_start, gdims, (nb,), P)
 
         _DRIVERS[key] = (spec, run)
     return _DRIVERS[key]

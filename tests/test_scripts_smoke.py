@@ -406,3 +406,25 @@ def test_control_options_tiny_run_ends_in_its_one_line_error():
     assert r.stderr.startswith("control_options.py: ") and "no_such_option" in r.stderr
     r = run(BENCH / "control_options.py", "dam", expect=2)
     assert "give the case: weir or sluice-gate" in r.stderr
+
+
+def test_peer_sitting_with_a_stand_in_peer(tmp_path):
+    """The sitting's order (peer, float32, float64, float64, float32, peer) and its ratios, with a stand-in for
+    DualSPHysics's run.sh that prints a fixed JSON line after a line of other output (the real one needs the
+    build in ../shared/peers); a missing peer is refused in one line."""
+    peer = tmp_path / "run.sh"
+    line = json.dumps({"build": "stand-in", "particles": 1000, "particle_steps_per_second": 1e5})
+    peer.write_text(f"echo 'DualSPHysics says hello'\necho '{line}'\n")
+    out = tmp_path / "sitting.json"
+    r = run(BENCH / "peer_sitting.py", "--peer", peer, "--dp", 0.03, "--steps", 2, "--warmup", 1, "--threads", 1,
+            "--json", out)
+    d = json.loads(out.read_text())
+    assert [x.get("precision", x["code"]) for x in d["runs"]] == [
+        "DualSPHysics", "float32", "float64", "float64", "float32", "DualSPHysics"]
+    for ratio in d["ratios"]:
+        mine = sum(x["particle_steps_per_second"] for x in d["runs"] if x.get("precision") == ratio["precision"])
+        assert ratio["shoal_over_peer"] == pytest.approx(mine / 2e5, rel=1e-12)
+        assert f"shoal {ratio['precision']} / DualSPHysics: {ratio['shoal_over_peer']:.2f}" in r.stdout
+    assert all(x["particles"] == 6366 for x in d["runs"] if x["code"] == "shoal")
+    r = run(BENCH / "peer_sitting.py", "--peer", tmp_path / "none.sh", expect=2)
+    assert r.stderr.strip().count("\n") == 0 and "is not a file" in r.stderr

@@ -33,13 +33,15 @@ r_i - (r_j -+ L). With periodic x, each row is scanned as up to three
 contiguous segments (the main one and the wrapped ones).
 """
 
-from .stack import ROW_CAP, row_buffer  # noqa: E402
+import numpy as np
+
+from .stack import ROW_CAP, row_buffer, term_buffer_f32, term_buffer_f64
 
 TRIM_MARGIN = 0.05
 """Margin [cells] on the support radius of the row trimming (see the module docstring)."""
 
 
-def make_gather(jit, spec, pair, compact=False):
+def make_gather(jit, spec, pair, compact=False, terms=None):
     """Return ``gather(i, own, acc, pos, cell, cell_start, gdims, data, P)``.
 
     Parameters of the returned function
@@ -55,15 +57,25 @@ def make_gather(jit, spec, pair, compact=False):
     stored component is z); sy = 1, or -1 when j stands for its mirror
     image across a symmetry plane y = const (its y velocity is reversed).
 
-    compact : CPU only, without periodic axes or a symmetry plane. Each
-    trimmed row is first walked without a branch, writing every candidate's
-    index to a stack buffer (`stack.row_buffer`) and advancing the count only
-    for those within the support; `pair` then runs over the compact list. The
-    same pairs reach `pair` in the same order with the same (dx, dy, dz, r2),
-    so the results are bitwise equal. In developed flow the support test's
-    branch is mispredicted about a third of the time; the compaction takes
-    16-19 % off the rates of the 3D rip-current case at t = 3.1 s (and costs
-    10 % on a particle lattice, where that branch is predicted).
+    compact : CPU only, without periodic axes or a symmetry plane; needs
+    `terms`. The trimmed rows are walked without a branch, each candidate's
+    index written to a stack buffer (`stack.row_buffer`) and the count advanced
+    only for those within the support, until the buffer is full or the rows
+    are done. `pair` then runs over the buffered neighbours as a loop with no
+    carried dependence, which LLVM vectorises: each call starts from the
+    accumulator `init` and its result is stored with `put` into a term buffer
+    (`stack.term_buffer_f32` / `_f64`); a last loop adds the terms up with
+    `fold`, in the order of the neighbours. The same pairs are summed in the
+    same order as without `compact`, and the results agree to round-off (a
+    pair's terms are added as one value). In developed flow the support
+    test's branch is mispredicted about a third of the time, which the
+    compaction avoids; the vectorised pair loop and the longer lists it runs
+    over (a buffer holds several rows) are measured in
+    `benchmarks/results/issue34/vector_pairs/`.
+    terms : ``(init, put, fold)`` for `compact`: the accumulator a pair's
+    terms are computed from (zeros for sums), ``put(T, m, acc)`` storing an
+    accumulator in column m of the (`stack.TERMS`, `stack.ROW_CAP`) buffer T,
+    and ``fold(acc, T, m)`` adding column m to an accumulator.
     """
     n = spec.cells_per_support
     dim = spec.dim
@@ -74,11 +86,14 @@ def make_gather(jit, spec, pair, compact=False):
         return _make_periodic_gather(jit, spec, pair)
     reach2 = (n + TRIM_MARGIN) ** 2  # the support radius in cells, squared, with the margin
     if compact:
-        return _make_compact_gather(jit, spec, pair, reach2)
+        if terms is None:
+            raise TypeError("make_gather(compact=True) needs terms=(init, put, fold)")
+        return _make_compact_gather(jit, spec, pair, reach2, terms)
 
     if dim == 3:
         @jit
         def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+            ii = np.int64(i)  # i is unsigned: compared with a signed j, both would be converted to float64
             nx, ny, nz = gdims
             c = cell[i]
             ix = c % nx
@@ -109,12 +124,13 @@ def make_gather(jit, spec, pair, compact=False):
                         dy = F(yi - pos[j, 1])
                         dz = F(zi - pos[j, 2])
                         r2 = dx * dx + dy * dy + dz * dz
-                        if r2 < supp2 and j != i:
+                        if r2 < supp2 and j != ii:
                             acc = pair(acc, own, j, dx, dy, dz, r2, one, data, P)
             return acc
     else:
         @jit
         def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+            ii = np.int64(i)  # i is unsigned: compared with a signed j, both would be converted to float64
             nx, ny, nz = gdims
             c = cell[i]
             ix = c % nx
@@ -138,26 +154,54 @@ def make_gather(jit, spec, pair, compact=False):
                     dx = F(xi - pos[j, 0])
                     dz = F(zi - pos[j, 1])
                     r2 = dx * dx + dz * dz
-                    if r2 < supp2 and j != i:
+                    if r2 < supp2 and j != ii:
                         acc = pair(acc, own, j, dx, zero, dz, r2, one, data, P)
             return acc
 
     return gather
 
 
-def _make_compact_gather(jit, spec, pair, reach2):
-    """`make_gather` with compact=True (CPU): each trimmed row is walked twice, first without a
-    branch (every candidate's index is written to a stack buffer, the count advanced only for those
-    within the support), then over the compact list with `pair`."""
+def _make_compact_gather(jit, spec, pair, reach2, terms):
+    """`make_gather` with compact=True (CPU): the rows' candidates compacted into a buffer, their
+    pairs evaluated by a vectorised loop into a term buffer, the terms then summed in order."""
     n = spec.cells_per_support
     dim = spec.dim
     F = spec.float_type
     zero = F(0.0)
     one = F(1.0)
+    init, put, fold = terms
+    f32 = F == np.float32
+    side = 2 * n + 1
+    n_rows = side * side if dim == 3 else side
+
+    @jit
+    def row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz):
+        """Particles [start, stop) of stencil row r (empty where the trimmed row is)."""
+        if dim == 3:
+            z = iz - n + r // side
+            y = iy - n + r % side
+        else:
+            z = iz - n + r
+            y = 0
+        if z < 0 or z >= nz or y < 0 or y >= ny:
+            return 0, 0
+        ez = max(0.0, max(z - uz, uz - (z + 1)))
+        ey = max(0.0, max(y - uy, uy - (y + 1))) if dim == 3 else 0.0
+        e2 = reach2 - ey * ey - ez * ez
+        if e2 <= 0.0:
+            return 0, 0
+        e = e2 ** 0.5
+        x0 = max(int(ux - e), ix - n, 0)
+        x1 = min(int(ux + e), ix + n, nx - 1)
+        if x0 > x1:
+            return 0, 0
+        row = nx * (y + ny * z)
+        return cell_start[row + x0], cell_start[row + x1 + 1]
 
     @jit
     def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
         nx, ny, nz = gdims
+        ui = np.uint64(i)  # j is unsigned too: with one signed, both would be converted to float64
         c = cell[i]
         ix = c % nx
         t = c // nx
@@ -168,6 +212,10 @@ def _make_compact_gather(jit, spec, pair, reach2):
             iy = 0
             iz = t
         buf = row_buffer()
+        if f32:
+            T = term_buffer_f32()
+        else:
+            T = term_buffer_f64()
         xi = pos[i, 0]
         zi = pos[i, dim - 1]
         yi = pos[i, 1] if dim == 3 else 0.0
@@ -175,38 +223,39 @@ def _make_compact_gather(jit, spec, pair, reach2):
         uy = (yi - P.grid_lo_y) * P.inv_cs
         uz = (zi - P.grid_lo_z) * P.inv_cs
         supp2 = P.supp2
-        for z in range(max(iz - n, 0), min(iz + n, nz - 1) + 1):
-            ez = max(0.0, max(z - uz, uz - (z + 1)))
-            for y in range(max(iy - n, 0), min(iy + n, ny - 1) + 1):
-                ey = max(0.0, max(y - uy, uy - (y + 1))) if dim == 3 else 0.0
-                e2 = reach2 - ey * ey - ez * ez
-                if e2 <= 0.0:
-                    continue
-                e = e2 ** 0.5
-                x0 = max(int(ux - e), ix - n, 0)
-                x1 = min(int(ux + e), ix + n, nx - 1)
-                if x0 > x1:
-                    continue
-                row = nx * (y + ny * z)
-                start = cell_start[row + x0]
-                stop = cell_start[row + x1 + 1]
-                s0 = start
-                while s0 < stop:
-                    s1 = min(s0 + ROW_CAP, stop)
-                    k = 0
-                    for j in range(s0, s1):
-                        dx = F(xi - pos[j, 0])
-                        dz = F(zi - pos[j, dim - 1])
-                        dy = F(yi - pos[j, 1]) if dim == 3 else zero
-                        buf[k] = j
-                        k += (dx * dx + dy * dy + dz * dz < supp2) & (j != i)
-                    for m in range(k):
-                        j = buf[m]
-                        dx = F(xi - pos[j, 0])
-                        dz = F(zi - pos[j, dim - 1])
-                        dy = F(yi - pos[j, 1]) if dim == 3 else zero
-                        acc = pair(acc, own, j, dx, dy, dz, dx * dx + dy * dy + dz * dz, one, data, P)
-                    s0 = s1
+        r = 0
+        s0, stop = row_range(0, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
+        while r < n_rows:
+            # fill the buffer with the candidates of as many rows as it holds, keeping those within
+            # the support (a branch-free compaction), ...
+            k = 0
+            while r < n_rows:
+                room = ROW_CAP - k
+                if stop - s0 > room and k > 0:
+                    break
+                s1 = min(s0 + room, stop)
+                # unsigned indices: Numba adds no negative-index wraparound to their loads and stores
+                for j in range(np.uint64(s0), np.uint64(s1)):
+                    dx = F(xi - pos[j, 0])
+                    dz = F(zi - pos[j, dim - 1])
+                    dy = F(yi - pos[j, 1]) if dim == 3 else zero
+                    buf[np.uint64(k)] = j
+                    k += (dx * dx + dy * dy + dz * dz < supp2) & (j != ui)
+                s0 = s1
+                if s0 >= stop:
+                    r += 1
+                    if r < n_rows:
+                        s0, stop = row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
+            # ... then evaluate its pairs, which are independent (LLVM vectorises this loop), ...
+            for m in range(np.uint64(k)):
+                j = np.uint64(buf[m])
+                dx = F(xi - pos[j, 0])
+                dz = F(zi - pos[j, dim - 1])
+                dy = F(yi - pos[j, 1]) if dim == 3 else zero
+                put(T, m, pair(init, own, j, dx, dy, dz, dx * dx + dy * dy + dz * dz, one, data, P))
+            # ... and add them up in the neighbours' order
+            for m in range(np.uint64(k)):
+                acc = fold(acc, T, m)
         return acc
 
     return gather
@@ -269,6 +318,7 @@ def _make_periodic_gather(jit, spec, pair):
     @jit
     def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
         nx, ny, nz = gdims
+        ii = np.int64(i)  # i is unsigned: compared with a signed j, both would be converted to float64
         c = cell[i]
         ix = c % nx
         t = c // nx
@@ -311,7 +361,7 @@ def _make_periodic_gather(jit, spec, pair):
                             else:
                                 dy = zero
                             r2 = dx * dx + dy * dy + dz * dz
-                            if r2 < supp2 and (j != i or scan == 1):
+                            if r2 < supp2 and (j != ii or scan == 1):
                                 acc = pair(acc, own, j, dx, dy, dz, r2, sy, data, P)
         return acc
 
