@@ -8,6 +8,12 @@ free memory after the timed steps).
 
     python benchmarks/bench_dambreak.py --dp 0.0085 --steps 100 --precision float32
     python benchmarks/bench_dambreak.py --dp 0.0085 --steps 100 --floating 800   # the column floats
+    python benchmarks/bench_dambreak.py --dp 0.012 --steps 40 --from-checkpoint runs/db/ckpt_004100.h5
+
+``--from-checkpoint`` times developed flow: the steps start from a checkpoint of a run of the same case (the same
+dp, precision and integrator), e.g. ``shoal run dam-break-dualsphysics --dp 0.012 --end-time 0.5
+--checkpoint-interval 0.5 --out runs/db`` (after the impact on the far wall, 0.5 s), instead of from rest, where
+the particles still sit on their lattice.
 
 The case is `shoal.cases.dam_break_dualsphysics` (tank 1.6 x 0.67 x 0.4 m,
 water 0.4 x 0.67 x 0.3 m, hollow column; cubic spline with tensile
@@ -47,6 +53,8 @@ def main(argv=None):
     p.add_argument("--cells-per-support", type=int, default=2)
     p.add_argument("--threads", type=int, default=None, help="Numba threads (default: all)")
     p.add_argument("--backend", default="cpu", choices=["cpu", "cuda"])
+    p.add_argument("--from-checkpoint", default=None, metavar="FILE",
+                   help="start the timed steps from this checkpoint of a run of the same case (developed flow)")
     p.add_argument("--floating", type=float, default=None, metavar="DENSITY",
                    help="make the column a floating body of this density [kg/m^3] (issue 32: a floating body's cost)")
     args = p.parse_args(argv)
@@ -72,6 +80,12 @@ def main(argv=None):
     mem_before = device_memory(args.backend)
     model = build_model(case, backend=args.backend)
     sim = Simulation(model, end_time=1e9)
+    if args.from_checkpoint:
+        from pathlib import Path
+
+        from shoal.simulation.checkpoint import read_checkpoint, restore
+        restore(sim, read_checkpoint(Path(args.from_checkpoint)))
+    start_time = sim.time
     t0 = time.perf_counter()
     sim.run(max_steps=args.warmup)
     t1 = time.perf_counter()
@@ -97,6 +111,7 @@ def main(argv=None):
         "compile_seconds": round(model.backend.compile_seconds, 3),
         "warmup_seconds": round(warm, 3),
         "setup_seconds": round(t0 - t_import, 3),
+        "start_time": start_time,
         "simulated_time": sim.time,
         "peak_rss_bytes": peak,
         "solver_bytes": model.nbytes(),
@@ -114,9 +129,10 @@ def main(argv=None):
 
 if __name__ == "__main__":
     from shoal.errors import InputError
+    from shoal.simulation.checkpoint import CheckpointError
 
     try:
         main()
-    except InputError as err:
+    except (InputError, CheckpointError) as err:
         sys.stderr.write(f"bench_dambreak: error: {err}\n")
         sys.exit(2)

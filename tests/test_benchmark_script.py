@@ -42,6 +42,28 @@ def test_bench_bad_input_is_one_line_exit_2():
     assert out.stdout == ""
 
 
+def test_bench_from_a_checkpoint_times_the_run_where_it_stopped(tmp_path):
+    """``--from-checkpoint`` (issue 34, developed flow): the timed steps continue a run of the same case from its
+    checkpoint, so the simulated time starts at the checkpoint's; a checkpoint of another case (another dp) is
+    refused in one line, exit 2."""
+    from shoal.simulation.checkpoint import list_checkpoints
+
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    made = subprocess.run([sys.executable, "-m", "shoal", "run", "dam-break-dualsphysics", "--dp", "0.03",
+                           "--end-time", "0.01", "--checkpoint-interval", "0.01", "--output-interval", "0.01",
+                           "--out", str(tmp_path / "db"), "--no-progress", "--no-plot"],
+                          capture_output=True, text=True, env=env, timeout=600)
+    assert made.returncode == 0, made.stderr[-2000:]
+    ck = list_checkpoints(tmp_path / "db")[0]  # the newest
+    out = run("--dp", "0.03", "--steps", "2", "--warmup", "1", "--from-checkpoint", str(ck))
+    assert out.returncode == 0, out.stderr[-2000:]
+    r = json.loads(out.stdout)
+    assert r["start_time"] >= 0.01 and r["simulated_time"] > r["start_time"]
+    out = run("--dp", "0.025", "--steps", "1", "--from-checkpoint", str(ck))
+    assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
+    assert out.stderr.startswith("bench_dambreak: error: ") and "particles" in out.stderr
+
+
 REGRESSION = SCRIPT.parent / "regression.py"
 
 
