@@ -11,6 +11,7 @@ to the next, and ABBA cancels a drift within the sitting to first order.
     python benchmarks/regression.py                     # uncommitted changes against HEAD
     python benchmarks/regression.py --base HEAD~1       # the last commit against its parent
     python benchmarks/regression.py --dp 0.0085 --steps 100 --precision float64
+    python benchmarks/regression.py --dp 0.012 --from-checkpoint runs/db/ckpt_004100.h5   # developed flow
 
 The base's source is exported with ``git archive`` into a temporary folder (nothing in the repository
 changes); both trees are measured with the working tree's copy of ``bench_dambreak.py``, so that the
@@ -64,6 +65,8 @@ def bench(src, args, steps, warmup):
            "--precision", args.precision]
     if args.threads:
         cmd += ["--threads", str(args.threads)]
+    if args.from_checkpoint:
+        cmd += ["--from-checkpoint", str(args.from_checkpoint)]
     r = subprocess.run(cmd, capture_output=True, text=True, env=env)
     if r.returncode != 0:
         tail = r.stderr.strip().splitlines()[-1:] or ["no message"]
@@ -80,6 +83,8 @@ def main(argv=None):
     p.add_argument("--precision", choices=["float32", "float64"], default="float32")
     p.add_argument("--threads", type=int, default=None, help="Numba threads (default: all)")
     p.add_argument("--rounds", type=int, default=1, help="ABBA rounds (default 1: four timed runs)")
+    p.add_argument("--from-checkpoint", default=None, metavar="FILE",
+                   help="time developed flow: every run starts from this checkpoint (bench_dambreak.py)")
     p.add_argument("--json", default=None, help="write the figures to this file")
     args = p.parse_args(argv)
     if args.rounds < 1 or args.steps < 1 or args.warmup < 1:
@@ -104,6 +109,7 @@ def main(argv=None):
     if args.json:
         Path(args.json).write_text(json.dumps({"base": args.base, "base_commit": sha, "ratio": ratio,
                                                "dp": args.dp, "steps": args.steps, "precision": args.precision,
+                                               "from_checkpoint": args.from_checkpoint,
                                                "runs": runs}, indent=2) + "\n", encoding="utf-8")
     return 0
 
