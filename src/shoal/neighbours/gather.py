@@ -222,7 +222,7 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         ux = (xi - P.grid_lo_x) * P.inv_cs
         uy = (yi - P.grid_lo_y) * P.inv_cs
         uz = (zi - P.grid_lo_z) * P.inv_cs
-        supp2 = P.supp2
+        supp2d = np.float64(P.supp2)
         r = 0
         s0, stop = row_range(0, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
         while r < n_rows:
@@ -234,13 +234,16 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
                 if stop - s0 > room and k > 0:
                     break
                 s1 = min(s0 + room, stop)
-                # unsigned indices: Numba adds no negative-index wraparound to their loads and stores
+                # unsigned indices: Numba adds no negative-index wraparound to their loads and stores.
+                # The support test in float64, on the float64 differences: no conversion per candidate
+                # (7 % of the rates in float32); a pair it keeps or drops unlike the working precision's
+                # test lies at r = 2h to round-off, where the kernel and its gradient vanish
                 for j in range(np.uint64(s0), np.uint64(s1)):
-                    dx = F(xi - pos[j, 0])
-                    dz = F(zi - pos[j, dim - 1])
-                    dy = F(yi - pos[j, 1]) if dim == 3 else zero
+                    ex = xi - pos[j, 0]
+                    ez = zi - pos[j, dim - 1]
+                    ey = yi - pos[j, 1] if dim == 3 else 0.0
                     buf[np.uint64(k)] = j
-                    k += (dx * dx + dy * dy + dz * dz < supp2) & (j != ui)
+                    k += (ex * ex + ey * ey + ez * ez < supp2d) & (j != ui)
                 s0 = s1
                 if s0 >= stop:
                     r += 1
