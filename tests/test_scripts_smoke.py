@@ -428,3 +428,18 @@ def test_peer_sitting_with_a_stand_in_peer(tmp_path):
     assert all(x["particles"] == 6366 for x in d["runs"] if x["code"] == "shoal")
     r = run(BENCH / "peer_sitting.py", "--peer", tmp_path / "none.sh", expect=2)
     assert r.stderr.strip().count("\n") == 0 and "is not a file" in r.stderr
+
+
+def test_thread_scaling(tmp_path):
+    """Thread counts alternated in one process: a time a step per count and round, and the speed-ups over the
+    first count (here 1 and 1 thread: the smoke tests run one Numba thread); a count beyond Numba's pool is
+    refused in one line."""
+    out = tmp_path / "scaling.json"
+    r = run(BENCH / "thread_scaling.py", "--dp", 0.03, "--threads", 1, 1, "--rounds", 2, "--steps", 1, "--json", out)
+    d = json.loads(out.read_text())
+    assert d["particles"] == 6366 and len(d["seconds_per_step"]["1"]) == 4  # two rounds of the count 1, twice
+    assert d["speedup"]["1"] == pytest.approx(1.0)
+    assert len(rows(r.stdout, r"round \d: 1 threads [\d.]+ ms, 1 threads [\d.]+ ms$")) == 2
+    r = run(BENCH / "thread_scaling.py", "--threads", 1, 2, expect=2)
+    assert r.stderr.strip() == ("thread_scaling.py: error: --threads must be between 1 and 1 (Numba's thread pool; "
+                                "NUMBA_NUM_THREADS sets it)")
