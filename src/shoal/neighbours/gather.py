@@ -58,10 +58,10 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
     image across a symmetry plane y = const (its y velocity is reversed).
 
     compact : CPU only, without periodic axes or a symmetry plane; needs
-    `terms`. The trimmed rows are walked without a branch, each candidate's
-    index written to a stack buffer (`stack.row_buffer`) and the count advanced
-    only for those within the support, until the buffer is full or the rows
-    are done. `pair` then runs over the buffered neighbours as a loop with no
+    `terms`. The ranges of all the trimmed rows are found first; the rows
+    are then walked without a branch, each candidate's index written to a
+    stack buffer (`stack.row_buffer`) and the count advanced only for those
+    within the support, until the buffer is full or the rows are done. `pair` then runs over the buffered neighbours as a loop with no
     carried dependence, which LLVM vectorises: each call starts from the
     accumulator `init` and its result is stored with `put` into a term buffer
     (`stack.term_buffer_f32` / `_f64`); a last loop adds the terms up with
@@ -173,6 +173,9 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
     f32 = F == np.float32
     side = 2 * n + 1
     n_rows = side * side if dim == 3 else side
+    if n_rows > ROW_CAP // 2:
+        raise ValueError(f"cells_per_support = {n} gives {n_rows} stencil rows; the compact gather holds "
+                         f"at most {ROW_CAP // 2}")
 
     @jit
     def row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz):
@@ -223,8 +226,15 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         uy = (yi - P.grid_lo_y) * P.inv_cs
         uz = (zi - P.grid_lo_z) * P.inv_cs
         supp2d = np.float64(P.supp2)
+        # every row's range first: computed between two rows' compaction, each waited for its square
+        # root and its reads of cell_start (half the compaction's time)
+        rows = row_buffer()
+        for r in range(n_rows):
+            a, b = row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
+            rows[r] = a
+            rows[ROW_CAP // 2 + r] = b
         r = 0
-        s0, stop = row_range(0, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
+        s0, stop = rows[0], rows[ROW_CAP // 2]
         while r < n_rows:
             # fill the buffer with the candidates of as many rows as it holds, keeping those within
             # the support (a branch-free compaction), ...
@@ -248,7 +258,7 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
                 if s0 >= stop:
                     r += 1
                     if r < n_rows:
-                        s0, stop = row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
+                        s0, stop = rows[r], rows[ROW_CAP // 2 + r]
             # ... then evaluate its pairs, which are independent (LLVM vectorises this loop), ...
             for m in range(np.uint64(k)):
                 j = np.uint64(buf[m])
