@@ -23,6 +23,7 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 LAYERS = [
     # 0: no shoal imports but these
     ["shoal.errors", "shoal.version", "shoal.cache_lock", "shoal.data", "shoal.parallel", "shoal.environment",
+     "shoal.cpu_features",
      "shoal.faults"],
     # 1: geometry, physics, neighbour search, backends, integrators; options; file formats
     ["shoal.geometry", "shoal.physics", "shoal.physics.identity", "shoal.physics.shifting", "shoal.neighbours", "shoal.backends",

@@ -46,6 +46,11 @@ if _bad:
         raise SystemExit(2)
     raise _InputError(_bad)
 
+from .cpu_features import install as _install_cpu_features  # noqa: E402
+
+# 512-bit vectors where the CPU has AVX-512, before Numba compiles anything (shoal.cpu_features)
+_install_cpu_features()
+
 import numpy as _np  # noqa: E402
 
 # numba-cuda (0.30.4 and earlier) registers an overload of numpy.row_stack when
