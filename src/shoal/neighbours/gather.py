@@ -61,7 +61,8 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
     `terms`. The ranges of all the trimmed rows are found first; the rows
     are then walked without a branch, each candidate's index written to a
     stack buffer (`stack.row_buffer`) and the count advanced only for those
-    within the support, until the buffer is full or the rows are done. `pair` then runs over the buffered neighbours as a loop with no
+    within the support, until the buffer is full or the rows are done.
+    `pair` then runs over the buffered neighbours as a loop with no
     carried dependence, which LLVM vectorises: each call starts from the
     accumulator `init` and its result is stored with `put` into a term buffer
     (`stack.term_buffer_f32` / `_f64`); a last loop adds the terms up with
