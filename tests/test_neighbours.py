@@ -14,6 +14,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from shoal.backends.cpu import split_positions
 from shoal.errors import InputError
 from shoal.neighbours import CellGrid, brute_force_pairs
 from shoal.neighbours.gather import make_gather
@@ -24,13 +25,14 @@ MAX_NB = 1024
 _DRIVERS = {}
 
 
-def _driver(dim, cps, compact=False):
-    """(spec, run) where run(n, pos, cell, cell_start, gdims, P, nb, count)
+def _driver(dim, cps, compact=False, precision="float64"):
+    """(spec, run) where run(n, pos, spos, cell, cell_start, gdims, P, nb, count)
     writes every particle's neighbours into nb[i, :count[i]] (`compact`: the CPU's
-    branch-free row compaction and its term buffer)."""
-    key = (dim, cps, compact)
+    branch-free row compaction and its term buffer, which reads the split float32
+    coordinates `spos`; the others ignore them)."""
+    key = (dim, cps, compact, precision)
     if key not in _DRIVERS:
-        spec = SchemeSpec.from_options(SPHOptions(precision="float64", cells_per_support=cps), dim)
+        spec = SchemeSpec.from_options(SPHOptions(precision=precision, cells_per_support=cps), dim)
 
         @numba.njit
         def record(acc, own, j, dx, dy, dz, r2, sy, data, P):
@@ -41,38 +43,50 @@ def _driver(dim, cps, compact=False):
 
         if compact:
             # the compacted gather evaluates the pairs into a term buffer, then folds the terms in
-            # order: the term is the neighbour's index, and the fold records it
+            # order: a pair's terms are (1, its neighbour's index), and the fold records the index;
+            # a candidate beyond 2h stores the terms of `init`, (0, -1), which it passes over
             @numba.njit
             def index_term(acc, own, j, dx, dy, dz, r2, sy, data, P):
-                return (np.float64(j),)
+                return (1.0, np.float64(j))
 
             @numba.njit
             def put(T, m, t):
                 T[0, m] = t[0]
+                T[1, m] = t[1]
 
             @numba.njit
             def fold(acc, T, m):
                 count, nb, own = acc
+                if T[0, m] == 0.0:
+                    return acc
                 if count < nb.shape[1]:
-                    nb[own, count] = np.int64(T[0, m])
+                    nb[own, count] = np.int64(T[1, m])
                 return count + 1, nb, own
 
-            gather = make_gather(numba.njit, spec, index_term, compact=True, terms=((0.0,), put, fold))
+            gather = make_gather(numba.njit, spec, index_term, compact=True, terms=((0.0, -1.0), put, fold))
 
             @numba.njit
-            def run(n, pos, cell, cell_start, gdims, P, nb, count):
+            def run(n, pos, spos, cell, cell_start, gdims, P, nb, count):
                 for i in range(n):
-                    count[i] = gather(i, i, (0, nb, i), pos, cell, cell_start, gdims, (nb,), P)[0]
+                    count[i] = gather(i, i, (0, nb, i), pos, spos, cell, cell_start, gdims, (nb,), P)[0]
         else:
             gather = make_gather(numba.njit, spec, record)
 
             @numba.njit
-            def run(n, pos, cell, cell_start, gdims, P, nb, count):
+            def run(n, pos, spos, cell, cell_start, gdims, P, nb, count):
                 for i in range(n):
                     count[i] = gather(i, i, 0, pos, cell, cell_start, gdims, (nb,), P)
 
         _DRIVERS[key] = (spec, run)
     return _DRIVERS[key]
+
+
+def _split(pos, grid):
+    """The compact gather's split float32 coordinates of `pos` (`Model.split_positions`)."""
+    n, dim = pos.shape
+    out = np.zeros((2 * dim, max(n, 1)), np.float32)
+    split_positions(n, pos, np.asarray(grid.lo, np.float64), out)
+    return out
 
 
 def _params(spec, h, grid):
@@ -95,18 +109,19 @@ def _bin(pos, lo, hi, h, cps):
     return grid, pos, ids, n_active
 
 
-def _gather_pairs(pos, lo, hi, h, cps):
+def _gather_pairs(pos, lo, hi, h, cps, precision="float64"):
     dim = pos.shape[1]
-    spec, run = _driver(dim, cps)
+    spec, run = _driver(dim, cps, precision=precision)
     grid, spos, ids, n_active = _bin(pos, lo, hi, h, cps)
+    split = _split(spos, grid)
     nb = np.full((max(n_active, 1), MAX_NB), -1, dtype=np.int64)
     count = np.zeros(max(n_active, 1), dtype=np.int64)
-    run(n_active, spos, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
+    run(n_active, spos, split, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
     assert count.max(initial=0) <= MAX_NB
     # the CPU's compacted rows visit the same neighbours in the same order
-    _, run_c = _driver(dim, cps, compact=True)
+    _, run_c = _driver(dim, cps, compact=True, precision=precision)
     nb_c, count_c = np.full_like(nb, -1), np.zeros_like(count)
-    run_c(n_active, spos, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb_c, count_c)
+    run_c(n_active, spos, split, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb_c, count_c)
     np.testing.assert_array_equal(count_c, count)
     np.testing.assert_array_equal(nb_c, nb)
     pairs = {(i, int(nb[i, k])) for i in range(n_active) for k in range(count[i])}
@@ -154,6 +169,30 @@ def test_gather_equals_brute_force_random(dim, cps):
     _, _, _, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, cps, strict=True)
     assert n_active == n
     assert len(pairs) > 20 * n  # a meaningful number of neighbours
+
+
+@pytest.mark.parametrize("cps", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
+def test_float32_compaction_finds_the_plain_gathers_pairs(dim, cps):
+    """In float32 the compacted gather tests its candidates on the high float32 parts of the split
+    coordinates, widened by their rounding, and takes a pair's r_i - r_j as the sum of the high and low
+    parts' differences: the same pairs, in the same order, as the plain gather's float32 test on the
+    float64 differences (`_gather_pairs` asserts it), on random points and on a lattice with pairs at
+    exactly 2h."""
+    rng = np.random.default_rng(7 * dim + cps)
+    h = 0.0371
+    lo = np.array([-0.13, 0.02, 0.5])[:dim]
+    hi = lo + np.array([0.41, 0.23, 0.3])[:dim]
+    n = 600 if dim == 2 else 900
+    _gather_pairs(lo + rng.random((n, dim)) * (hi - lo), lo, hi, h, cps, precision="float32")
+    cs = 0.125
+    step = cs / 2
+    k = np.arange(12 if dim == 2 else 8)
+    lattice = np.stack([g.ravel() for g in np.meshgrid(*([k] * dim), indexing="ij")], axis=1)
+    lo = np.array([-0.5, -0.25, -0.375])[:dim]
+    _, _, _, _, pairs = _gather_pairs(lo + step * lattice, lo, lo + len(k) * step, 0.5 * cps * cs, cps,
+                                      precision="float32")
+    assert len(pairs) > 0
 
 
 @pytest.mark.parametrize("cps", [1, 2, 3])
@@ -207,7 +246,8 @@ def test_trimmed_gather_after_particles_moved_since_binning(dim, cps):
         spec, run = _driver(dim, cps, compact)
         nb = np.full((n, MAX_NB), -1, dtype=np.int64)
         count = np.zeros(n, dtype=np.int64)
-        run(n, moved, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
+        run(n, moved, _split(moved, grid), grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb,
+            count)
         found[compact] = {(i, int(nb[i, k])) for i in range(n) for k in range(count[i])}
     assert found[True] == found[False]
     found = found[True]
@@ -240,7 +280,8 @@ def test_a_particle_far_from_its_binned_cell_meets_no_neighbours(dim):
         spec, run = _driver(dim, cps, compact)
         nb = np.full((n, MAX_NB), -1, dtype=np.int64)
         count = np.zeros(n, dtype=np.int64)
-        run(n, moved, grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb, count)
+        run(n, moved, _split(moved, grid), grid.cell, grid.cell_start, grid.gdims, _params(spec, h, grid), nb,
+            count)
         assert all(count[i] == 0 for i in far)
         found = {(i, int(nb[i, k])) for i in range(n) for k in range(count[i])}
         near = {(i, j) for i, j in brute_force_pairs(spos, 2.0 * h, n=n) if i not in far and j not in far}
@@ -363,3 +404,20 @@ def test_gather_property(case):
     grid, spos, ids, n_active, pairs = _check_against_brute_force(pos, lo, hi, h, cps)
     assert n_active == np.count_nonzero(_inside(pos, grid))
     assert sorted(ids.tolist()) == list(range(len(pos)))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_split_positions_hold_the_float64_coordinates(dim):
+    """`split_positions`: the high part is the coordinate (less the corner) rounded to float32, and high
+    plus low gives it back to within 2^-47 of its size; the rows past n are left alone."""
+    rng = np.random.default_rng(dim)
+    n = 1000
+    lo = np.array([-3.0, 0.25, -0.5])[:dim]
+    pos = lo + rng.random((n, dim)) * np.array([120.0, 7.0, 2.0])[:dim]
+    out = np.full((2 * dim, n + 3), 7.0, np.float32)
+    split_positions(n, pos, lo, out)
+    v = pos - lo
+    np.testing.assert_array_equal(out[:dim, :n].T, v.astype(np.float32))
+    back = out[:dim, :n].astype(np.float64) + out[dim:, :n].astype(np.float64)
+    assert np.all(np.abs(back.T - v) <= 2.0 ** -47 * np.abs(v))
+    assert np.all(out[:, n:] == 7.0)

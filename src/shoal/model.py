@@ -252,6 +252,9 @@ class Model:
         self._init_motions(positions[:, cols], kinds, motions, motion_of)
         self._init_wall_normals(kinds, wall_normals)
         self._no_ghosts = b.asarray(np.zeros((1, dim), F))  # the rates' ghost table when there is none
+        self._no_spos = b.asarray(np.zeros((2 * dim, 1), np.float32))  # the rates' split positions where unread
+        self._split_lo = np.array([self.params.grid_lo_x, self.params.grid_lo_y, self.params.grid_lo_z][:dim]
+                                  if dim == 3 else [self.params.grid_lo_x, self.params.grid_lo_z])
         if self.spec.wall_pressure == ADAMI and self.motion_of is None:
             # the Adami wall-pressure kernel reads a motion table; without moving walls, one unused row
             # (not a per-particle array: a checkpoint saves only arrays of n_total rows, each once)
@@ -674,9 +677,25 @@ class Model:
             b.timed(b.wall_velocity, n, (self.pos, self.vel, self.kind, self.grid.cell, self.grid.cell_start,
                                          self.grid.gdims_arr, P, self.vwall))
         ghosts, gid0 = self._ghost_args()
-        b.timed(b.rates, n, (self.pos, self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
+        b.timed(b.rates, n, (self.pos, self.split_positions(), self.vel, self.rho, self.pr2, self.kind, self.grid.cell,
                              self.grid.cell_start, self.grid.gdims_arr, P, self.ace, self.drho, self.xsph,
                              self.mu_max, self.tau, self.planes, self.ptable, self.vwall, self.idp, ghosts, gid0))
+
+    def split_positions(self):
+        """The CPU rates' split float32 coordinates, (2 dim, >= n): the positions less the grid's lower
+        corner as high and low float32 parts (`shoal.backends.cpu.split_positions`), which the compact
+        gather reads instead of the float64 positions (`shoal.neighbours.gather.make_gather`). Written
+        into the sort's float64 work array (free between sorts; 2 dim float32 a particle fill its dim
+        float64), viewed as float32: no memory of their own. On a backend without `split_positions`, a
+        placeholder the kernels do not read."""
+        split = getattr(self.backend, "split_positions", None)
+        if split is None:
+            return self._no_spos
+        work = self.scratch[(np.dtype(np.float64).str, self.dim)]
+        rows = work.shape[0]
+        spos = work.reshape(-1).view(np.float32)[:2 * self.dim * rows].reshape(2 * self.dim, rows)
+        split(self.n, self.pos, self._split_lo, spos)
+        return spos
 
     def _ghost_args(self):
         """(unit-normal table, first id) for the rates and wall forces: with ``riemann`` and wall normals

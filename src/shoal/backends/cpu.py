@@ -97,6 +97,21 @@ def dt_terms(n, ace, mu_max, kind):
     return amax, vm
 
 
+@numba.njit(parallel=True, cache=True)
+def split_positions(n, pos, lo, out):
+    """The compact gather's split coordinates (`shoal.neighbours.gather.make_gather`) of the first n
+    particles, one coordinate a row: with v = pos[i, d] - lo[d] (float64), out[d, i] = float32(v) (the
+    high part) and out[dim + d, i] = float32(v - out[d, i]) (the low part); their sum holds v to about
+    2^-48 v."""
+    dim = pos.shape[1]
+    for i in numba.prange(n):
+        for d in range(dim):
+            v = pos[i, d] - lo[d]
+            hi = np.float32(v)
+            out[d, i] = hi
+            out[dim + d, i] = np.float32(v - np.float64(hi))
+
+
 @numba.njit(cache=True)
 def find_bad(n, pos, vel, rho, kind, rho_lo, rho_hi):
     """First particle with a non-finite state or a density outside
@@ -179,6 +194,8 @@ class CPUBackend:
 
     dt_terms = staticmethod(dt_terms)
     find_bad = staticmethod(find_bad)
+    #: the rates read float32 split positions (`Model.split_positions`)
+    split_positions = staticmethod(split_positions)
     body_sums = staticmethod(body_sums)
 
     # -- arrays: the CPU works on NumPy arrays in place

@@ -41,7 +41,7 @@ TRIM_MARGIN = 0.05
 """Margin [cells] on the support radius of the row trimming (see the module docstring)."""
 
 
-def make_gather(jit, spec, pair, compact=False, terms=None):
+def make_gather(jit, spec, pair, compact=False, terms=None, only=None, rows_first=False):
     """Return ``gather(i, own, acc, pos, cell, cell_start, gdims, data, P)``.
 
     Parameters of the returned function
@@ -58,10 +58,23 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
     image across a symmetry plane y = const (its y velocity is reversed).
 
     compact : CPU only, without periodic axes or a symmetry plane; needs
-    `terms`. The ranges of all the trimmed rows are found first; the rows
-    are then walked without a branch, each candidate's index written to a
-    stack buffer (`stack.row_buffer`) and the count advanced only for those
-    within the support, until the buffer is full or the rows are done.
+    `terms`; the returned function then takes the split coordinates after
+    `pos`: ``gather(i, own, acc, pos, spos, cell, ...)``, `spos` (2 dim, N)
+    float32 with the high parts float32(x - lo) in rows 0 .. dim - 1 and
+    the low parts float32(x - lo - high) in rows dim .. 2 dim - 1
+    (`shoal.backends.cpu.split_positions`). The ranges of all the trimmed
+    rows are found first; the rows are then walked without a branch, each
+    candidate's index written to a stack buffer (`stack.row_buffer`) and
+    the count advanced only for those within the support, until the buffer
+    is full or the rows are done. That test reads the high parts (half the
+    bytes of the float64 positions, one coordinate a row) and widens the
+    support by their rounding (2^-24 of the grid's extent a coordinate), so
+    that it keeps every neighbour; the pair loop drops the few beyond 2h
+    (they store the terms of `init`, which add nothing). There a pair's
+    r_i - r_j is, in float32, the sum of the high and the low parts'
+    differences (the float64 difference rounded to float32: two nearby
+    coordinates of like magnitude have an exact high difference), without
+    reading the float64 positions again; in float64 it is taken from `pos`.
     `pair` then runs over the buffered neighbours as a loop with no
     carried dependence, which LLVM vectorises: each call starts from the
     accumulator `init` and its result is stored with `put` into a term buffer
@@ -77,6 +90,12 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
     terms are computed from (zeros for sums), ``put(T, m, acc)`` storing an
     accumulator in column m of the (`stack.TERMS`, `stack.ROW_CAP`) buffer T,
     and ``fold(acc, T, m)`` adding column m to an accumulator.
+    only : optional ``only(j, data)`` -> bool, a screen: candidates for which it is False are passed
+        over before their distance is computed (a wall particle's gather takes only fluid neighbours,
+        and most of its candidates are wall particles). The plain and `rows_first` gathers apply it;
+        the others take every candidate, so `pair` must still refuse what it does not take.
+    rows_first : CPU only, without periodic axes or a symmetry plane: the ranges of all the trimmed
+        rows are found before the rows are walked, as with `compact`.
     """
     n = spec.cells_per_support
     dim = spec.dim
@@ -86,10 +105,15 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
     if spec.periodic or spec.symmetry:
         return _make_periodic_gather(jit, spec, pair)
     reach2 = (n + TRIM_MARGIN) ** 2  # the support radius in cells, squared, with the margin
+    screen = only is not None
+    if not screen:
+        only = _everyone(jit)
     if compact:
         if terms is None:
             raise TypeError("make_gather(compact=True) needs terms=(init, put, fold)")
         return _make_compact_gather(jit, spec, pair, reach2, terms)
+    if rows_first:
+        return _make_rows_first_gather(jit, spec, pair, reach2, only, screen)
 
     if dim == 3:
         @jit
@@ -121,6 +145,8 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
                         continue
                     row = nx * (y + ny * z)
                     for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
+                        if screen and not only(j, data):
+                            continue
                         dx = F(xi - pos[j, 0])
                         dy = F(yi - pos[j, 1])
                         dz = F(zi - pos[j, 2])
@@ -152,6 +178,8 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
                     continue
                 row = nx * z
                 for j in range(cell_start[row + x0], cell_start[row + x1 + 1]):
+                    if screen and not only(j, data):
+                        continue
                     dx = F(xi - pos[j, 0])
                     dz = F(zi - pos[j, 1])
                     r2 = dx * dx + dz * dz
@@ -162,20 +190,27 @@ def make_gather(jit, spec, pair, compact=False, terms=None):
     return gather
 
 
-def _make_compact_gather(jit, spec, pair, reach2, terms):
-    """`make_gather` with compact=True (CPU): the rows' candidates compacted into a buffer, their
-    pairs evaluated by a vectorised loop into a term buffer, the terms then summed in order."""
+def _everyone(jit):
+    """The `only` of a gather that screens no candidate."""
+    @jit
+    def everyone(j, data):
+        return True
+
+    return everyone
+
+
+def _make_row_ranges(jit, spec, reach2):
+    """Return ``(row_ranges, n_rows)`` (CPU): ``row_ranges(c, ux, uy, uz, cell_start, gdims, rows)`` writes
+    the particles [start, stop) of each of the n_rows trimmed stencil rows around cell c, for a point at
+    (ux, uy, uz) in cell units, into ``rows[r]`` and ``rows[ROW_CAP // 2 + r]`` of a `stack.row_buffer`
+    (an empty range where the trimmed row is empty). Found before the rows are walked: computed between
+    two rows' walks, each row's range waited for its square root and its reads of cell_start."""
     n = spec.cells_per_support
     dim = spec.dim
-    F = spec.float_type
-    zero = F(0.0)
-    one = F(1.0)
-    init, put, fold = terms
-    f32 = F == np.float32
     side = 2 * n + 1
     n_rows = side * side if dim == 3 else side
     if n_rows > ROW_CAP // 2:
-        raise ValueError(f"cells_per_support = {n} gives {n_rows} stencil rows; the compact gather holds "
+        raise ValueError(f"cells_per_support = {n} gives {n_rows} stencil rows; a row buffer holds "
                          f"at most {ROW_CAP // 2}")
 
     @jit
@@ -203,10 +238,8 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         return cell_start[row + x0], cell_start[row + x1 + 1]
 
     @jit
-    def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+    def row_ranges(c, ux, uy, uz, cell_start, gdims, rows):
         nx, ny, nz = gdims
-        ui = np.uint64(i)  # j is unsigned too: with one signed, both would be converted to float64
-        c = cell[i]
         ix = c % nx
         t = c // nx
         if dim == 3:
@@ -215,6 +248,61 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         else:
             iy = 0
             iz = t
+        for r in range(n_rows):
+            a, b = row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
+            rows[r] = a
+            rows[ROW_CAP // 2 + r] = b
+
+    return row_ranges, n_rows
+
+
+def _make_rows_first_gather(jit, spec, pair, reach2, only, screen):
+    """`make_gather` with rows_first=True (CPU): the trimmed rows' ranges found first, then walked."""
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    one = F(1.0)
+    row_ranges, n_rows = _make_row_ranges(jit, spec, reach2)
+
+    @jit
+    def gather(i, own, acc, pos, cell, cell_start, gdims, data, P):
+        ii = np.int64(i)  # i is unsigned: compared with a signed j, both would be converted to float64
+        xi = pos[i, 0]
+        zi = pos[i, dim - 1]
+        yi = pos[i, 1] if dim == 3 else 0.0
+        rows = row_buffer()
+        row_ranges(cell[i], (xi - P.grid_lo_x) * P.inv_cs, (yi - P.grid_lo_y) * P.inv_cs,
+                   (zi - P.grid_lo_z) * P.inv_cs, cell_start, gdims, rows)
+        supp2 = P.supp2
+        for r in range(n_rows):
+            for j in range(rows[r], rows[ROW_CAP // 2 + r]):
+                if screen and not only(j, data):
+                    continue
+                dx = F(xi - pos[j, 0])
+                dz = F(zi - pos[j, dim - 1])
+                dy = F(yi - pos[j, 1]) if dim == 3 else zero
+                r2 = dx * dx + dy * dy + dz * dz
+                if r2 < supp2 and j != ii:
+                    acc = pair(acc, own, j, dx, dy, dz, r2, one, data, P)
+        return acc
+
+    return gather
+
+
+def _make_compact_gather(jit, spec, pair, reach2, terms):
+    """`make_gather` with compact=True (CPU): the rows' candidates compacted into a buffer, their
+    pairs evaluated by a vectorised loop into a term buffer, the terms then summed in order."""
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    one = F(1.0)
+    init, put, fold = terms
+    f32 = F == np.float32
+    row_ranges, n_rows = _make_row_ranges(jit, spec, reach2)
+
+    @jit
+    def gather(i, own, acc, pos, spos, cell, cell_start, gdims, data, P):
+        ui = np.uint64(i)  # j is unsigned too: with one signed, both would be converted to float64
         buf = row_buffer()
         if f32:
             T = term_buffer_f32()
@@ -223,17 +311,23 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         xi = pos[i, 0]
         zi = pos[i, dim - 1]
         yi = pos[i, 1] if dim == 3 else 0.0
-        ux = (xi - P.grid_lo_x) * P.inv_cs
-        uy = (yi - P.grid_lo_y) * P.inv_cs
-        uz = (zi - P.grid_lo_z) * P.inv_cs
         supp2d = np.float64(P.supp2)
-        # every row's range first: computed between two rows' compaction, each waited for its square
-        # root and its reads of cell_start (half the compaction's time)
+        # the compaction's test, on the high parts of the split coordinates: within the support widened
+        # by their rounding (at most 2^-24 L a coordinate, L the grid's extent), so that it keeps every
+        # neighbour within 2h
+        nx, ny, nz = gdims
+        extent = max(nx, ny, nz) / P.inv_cs
+        reach = 2.0 * P.h + extent * 2.0 ** -21
+        coarse2 = np.float32(reach * reach * (1.0 + 2.0 ** -20))
+        xs = spos[0, i]
+        zs = spos[dim - 1, i]
+        ys = spos[1, i] if dim == 3 else np.float32(0.0)
+        xl = spos[dim, i]
+        zl = spos[2 * dim - 1, i]
+        yl = spos[dim + 1, i] if dim == 3 else np.float32(0.0)
         rows = row_buffer()
-        for r in range(n_rows):
-            a, b = row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz)
-            rows[r] = a
-            rows[ROW_CAP // 2 + r] = b
+        row_ranges(cell[i], (xi - P.grid_lo_x) * P.inv_cs, (yi - P.grid_lo_y) * P.inv_cs,
+                   (zi - P.grid_lo_z) * P.inv_cs, cell_start, gdims, rows)
         r = 0
         s0, stop = rows[0], rows[ROW_CAP // 2]
         while r < n_rows:
@@ -245,16 +339,13 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
                 if stop - s0 > room and k > 0:
                     break
                 s1 = min(s0 + room, stop)
-                # unsigned indices: Numba adds no negative-index wraparound to their loads and stores.
-                # The support test in float64, on the float64 differences: no conversion per candidate
-                # (7 % of the rates in float32); a pair it keeps or drops unlike the working precision's
-                # test lies at r = 2h to round-off, where the kernel and its gradient vanish
+                # unsigned indices: Numba adds no negative-index wraparound to their loads and stores
                 for j in range(np.uint64(s0), np.uint64(s1)):
-                    ex = xi - pos[j, 0]
-                    ez = zi - pos[j, dim - 1]
-                    ey = yi - pos[j, 1] if dim == 3 else 0.0
+                    ex = xs - spos[0, j]
+                    ez = zs - spos[dim - 1, j]
+                    ey = ys - spos[1, j] if dim == 3 else np.float32(0.0)
                     buf[np.uint64(k)] = j
-                    k += (ex * ex + ey * ey + ez * ez < supp2d) & (j != ui)
+                    k += (ex * ex + ey * ey + ez * ez < coarse2) & (j != ui)
                 s0 = s1
                 if s0 >= stop:
                     r += 1
@@ -263,10 +354,28 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
             # ... then evaluate its pairs, which are independent (LLVM vectorises this loop), ...
             for m in range(np.uint64(k)):
                 j = np.uint64(buf[m])
-                dx = F(xi - pos[j, 0])
-                dz = F(zi - pos[j, dim - 1])
-                dy = F(yi - pos[j, 1]) if dim == 3 else zero
-                put(T, m, pair(init, own, j, dx, dy, dz, dx * dx + dy * dy + dz * dz, one, data, P))
+                if f32:
+                    # r_i - r_j from the split coordinates: the high parts' difference is exact (two
+                    # nearby values of like magnitude), the low parts' adds the rest, and the sum is the
+                    # float64 difference rounded to float32, without reading the float64 positions again
+                    dx = (xs - spos[0, j]) + (xl - spos[dim, j])
+                    dz = (zs - spos[dim - 1, j]) + (zl - spos[2 * dim - 1, j])
+                    dy = (ys - spos[1, j]) + (yl - spos[dim + 1, j]) if dim == 3 else zero
+                    r2 = dx * dx + dy * dy + dz * dz
+                    keep = r2 < P.supp2
+                else:
+                    ex = xi - pos[j, 0]
+                    ez = zi - pos[j, dim - 1]
+                    ey = yi - pos[j, 1] if dim == 3 else 0.0
+                    keep = ex * ex + ey * ey + ez * ez < supp2d
+                    dx = F(ex)
+                    dy = F(ey)
+                    dz = F(ez)
+                    r2 = dx * dx + dy * dy + dz * dz
+                # the support test in the working precision: a candidate the widened test kept beyond
+                # it stores the zero terms of `init`, which add nothing
+                t = pair(init, own, j, dx, dy, dz, r2, one, data, P)
+                put(T, m, t if keep else init)
             # ... and add them up in the neighbours' order
             for m in range(np.uint64(k)):
                 acc = fold(acc, T, m)

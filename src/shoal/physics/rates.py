@@ -76,9 +76,12 @@ def make_store(jit, spec):
 
 def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, unpack, plane_accel=None,
                compact=False):
-    """Return ``particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start,
+    """Return ``particle_rates(i, pos, spos, vel, rho, pr2, kind, cell, cell_start,
     grid_dims, Parr, ace, drho, xsph, mu_max, tau, planes, ptable, vwall, idp, ghosts, gid0)``, which writes
     particle i's rates.
+
+    `spos` (2 dim, N) float32 holds the split coordinates of the compact gather (`make_gather`, read only
+    with `compact`; `Model.split_positions`).
 
     `ghosts` is the walls' unit-normal table by particle id less `gid0` (`Model.wall_normal_of`);
     with ``riemann`` and ``gid0 >= 0`` a fluid-wall pair adds the Riemann dissipation along the
@@ -266,10 +269,16 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
 
     init = (zero, zero, zero, zero, zero, zero, zero, zero)
     gather_fluid = make_gather(jit, spec, fluid_pair, compact=compact, terms=(init, put, fold))
-    gather_bound = make_gather(jit, spec, bound_pair)
+    @jit
+    def fluid_only(j, data):
+        return data[3][j] == FLUID
+
+    # a wall particle's candidates are screened by kind before their distance is taken: most are wall
+    # particles (on the CPU its rows' ranges are found first, as the fluid gather's)
+    gather_bound = make_gather(jit, spec, bound_pair, only=fluid_only, rows_first=compact)
 
     @jit
-    def particle_rates(i, pos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, mu_max,
+    def particle_rates(i, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, mu_max,
                        tau, planes, ptable, vwall, idp, ghosts, gid0):
         P = unpack(Parr)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
@@ -289,7 +298,10 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             else:
                 own = (vix, viy, viz, rho[i], pr2i, ti, zero, zero, zero, zero, zero, zero)
             acc = (zero, zero, zero, zero, zero, zero, zero, zero)
-            ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
+            if compact:
+                ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, spos, cell, cell_start, gdims, data, P)
+            else:
+                ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
             if use_planes:
                 qx, qy, qz = plane_accel(pos[i, 0], pos[i, 1] if dim == 3 else 0.0, pos[i, dim - 1], vix, viy, viz,
                                          rho[i], planes, ptable, P)
