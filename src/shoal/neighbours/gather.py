@@ -7,7 +7,8 @@ such x-ranges. Positions are float64 in every run (as DualSPHysics keeps
 them in double): the difference r_i - r_j is taken in float64 and only then
 rounded to the working precision, so slow flows in float32 runs still move
 by their true displacement (a float32 coordinate of 0.5 m has a 6e-8 m ulp,
-a few steps' displacement of still water). Every pair within the support
+a few steps' displacement of still water; the CPU's compact gather gets the
+same rounded difference from split float32 coordinates, see `make_gather`). Every pair within the support
 2h is passed to ``pair``,
 which folds it into an accumulator tuple (written once, used by the rates,
 the filters and the probes, on every backend).
