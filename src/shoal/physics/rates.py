@@ -269,6 +269,8 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
 
     init = (zero, zero, zero, zero, zero, zero, zero, zero)
     gather_fluid = make_gather(jit, spec, fluid_pair, compact=compact, terms=(init, put, fold))
+    # with periodic axes or a symmetry plane `make_gather` gives the periodic gather, which takes no `spos`
+    split = compact and not (spec.periodic or spec.symmetry)
     @jit
     def fluid_only(j, data):
         return data[3][j] == FLUID
@@ -298,7 +300,7 @@ def make_rates(jit, spec, kernels, pressure, viscous, diffusion, make_gather, un
             else:
                 own = (vix, viy, viz, rho[i], pr2i, ti, zero, zero, zero, zero, zero, zero)
             acc = (zero, zero, zero, zero, zero, zero, zero, zero)
-            if compact:
+            if split:
                 ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, spos, cell, cell_start, gdims, data, P)
             else:
                 ax, ay, az, dr, xx, xy, xz, vm = gather_fluid(i, own, acc, pos, cell, cell_start, gdims, data, P)
