@@ -686,10 +686,10 @@ class Model:
         corner as high and low float32 parts (`shoal.backends.cpu.split_positions`), which the compact
         gather reads instead of the float64 positions (`shoal.neighbours.gather.make_gather`). Written
         into the sort's float64 work array (free between sorts; 2 dim float32 a particle fill its dim
-        float64), viewed as float32: no memory of their own. On a backend without `split_positions`, a
-        placeholder the kernels do not read."""
+        float64), viewed as float32: no memory of their own. On a backend without `split_positions`, or with
+        periodic axes or a symmetry plane, a placeholder the kernels do not read."""
         split = getattr(self.backend, "split_positions", None)
-        if split is None:
+        if split is None or self.periodic or self.spec.symmetry:  # the periodic gather reads none
             return self._no_spos
         work = self.scratch[(np.dtype(np.float64).str, self.dim)]
         rows = work.shape[0]
