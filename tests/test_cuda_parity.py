@@ -558,9 +558,9 @@ def test_active_absorption_measures_and_moves_the_paddle_as_on_the_cpu(paddle):
 @needs_cuda
 def test_floating_body_matches_cpu():
     """A floating box (`shoal.body_coupling`) released one spacing above its draft in a small 2D tank, and a
-    dense block standing on the bed: the fluid's force and torque summed over their particles (atomic adds on
-    the device), the bed's contact force on the block (`shoal.physics.contact`), the bodies' states after
-    three steps, and the particles they place, are the CPU's (float64: to round-off)."""
+    dense block sliding on the bed with friction: the fluid's force and torque summed over their particles
+    (atomic adds on the device), the bed's contact force on the block (`shoal.physics.contact`), the bodies'
+    states after three steps, and the particles they place, are the CPU's (float64: to round-off)."""
     from shoal.case import Case, Fluid, FluidRegion, Solid
     from shoal.floating import FloatingBody
     from shoal.geometry.shapes import Box, Tank
@@ -572,7 +572,7 @@ def test_floating_body_matches_cpu():
                         Solid(name="box", shape=Box(lo=(0.125, 0, 0.075 + dp), hi=(0.175, 0, 0.125 + dp)), layers=2,
                               floating=FloatingBody(density=500.0)),
                         Solid(name="block", shape=Box(lo=(0.025, 0, 0.0), hi=(0.075, 0, 0.025)), layers=2,
-                              floating=FloatingBody(density=2000.0))],
+                              floating=FloatingBody(density=2000.0, friction=0.5, velocity=(0.2, 0.0, 0.0)))],
                 fluids=[FluidRegion(shape=Box(lo=(0, 0, 0), hi=(0.3, 0, 0.1)))])
     out = []
     for backend in ("cpu", "cuda"):
@@ -588,6 +588,7 @@ def test_floating_body_matches_cpu():
     (la, sa, pa), (lb, sb, pb) = out
     assert abs(la[-1, 2]) > 0 and abs(sa[5]) > 0  # loaded, and moving
     assert la[-1, 12 + 6 + 2] > 0  # the bed pushes the block up
+    assert la[-1, 12 + 6] < 0  # and its friction holds back the block sliding along +x
     np.testing.assert_allclose(lb, la, rtol=1e-9, atol=1e-9 * np.abs(la).max())
     np.testing.assert_allclose(sb, sa, rtol=1e-9, atol=1e-12)
     assert np.max(np.abs(pa - pb)) < 1e-12

@@ -56,14 +56,18 @@ class FloatingMotion:
         The state at t = 0.
     loads : list of callables
         The loads besides the fluid's, each ``load(body, state, t) -> (F, T)`` (`shoal.body_loads`).
+    friction : float
+        Coulomb's friction coefficient of the body's contacts with the walls and other bodies.
     """
 
     floating = True
 
-    def __init__(self, name, body, state, loads=()):
+    def __init__(self, name, body, state, loads=(), friction=0.0):
         self.name = name
         self.body = body
         self.state = state
+        self.friction = float(friction)
+        """Coulomb's coefficient mu of the body's contacts (`shoal.physics.contact`)."""
         self.loads = list(loads)
         self._other = total_loads(body, self.loads)
 
@@ -244,7 +248,7 @@ def floating_bodies(case, gravity):
         nodes = solid_nodes(case.dim, case.dp, inputs, k, case.lattice_origin)
         body, state = s.floating.rigid_body(nodes, case.dp, case.dim)
         loads = [Gravity(gravity), *s.floating.springs]
-        out.append(FloatingMotion(s.name or f"solid{k}", body, state, loads))
+        out.append(FloatingMotion(s.name or f"solid{k}", body, state, loads, friction=s.floating.friction))
     names = [b.name for b in out]
     moorings = []
     for spec in case.moorings:

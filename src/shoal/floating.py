@@ -7,6 +7,7 @@ of a body from its particles. In a case file, a solid's ``floating`` table (`sho
     floating = { density = 500, fixed = ["y", "rx", "rz"] }
     floating = { mass = 12.5, centre_of_gravity = [1.0, 0.0, 0.2], inertia = [0.4, 0.5, 0.3] }
     floating = { density = 800, hinge = { point = [2.0, 0.0, 0.5], axis = [0, 1, 0] } }
+    floating = { density = 2000, friction = 0.4 }
 """
 
 from __future__ import annotations
@@ -75,6 +76,9 @@ class FloatingBody(Spec):
         Rotation about a fixed axis through a fixed point only. Not with `fixed` or `velocity`.
     springs : list of shoal.body_loads.SpringDamper
         Linear spring-dampers from body points to fixed anchors.
+    friction : float
+        Coulomb's friction coefficient mu >= 0 of the body's contacts with the walls and the other bodies
+        (`shoal.physics.contact`; two floating bodies take the mean of theirs); default 0, frictionless.
     interval : float, optional
         Seconds between the rows of the body's CSV (``body_<name>.csv``, `shoal.probes.body_recorder`);
         default: the case's output interval.
@@ -89,6 +93,7 @@ class FloatingBody(Spec):
     fixed: list[Literal["x", "y", "z", "rx", "ry", "rz"]] = Field(default_factory=list)
     hinge: Hinge | None = None
     springs: list[SpringDamper] = Field(default_factory=list)
+    friction: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
     interval: PositiveReal | None = None
 
     @field_validator("inertia")

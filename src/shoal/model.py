@@ -271,6 +271,9 @@ class Model:
         if self.floating:  # the per-particle forces their loads are summed from
             self._force = self.backend.zeros((max(len(kinds), 1), self.dim), self.dtype)
             self._contact = self.backend.zeros((max(len(kinds), 1), self.dim), np.float64)
+        # each motion's Coulomb friction coefficient in contact (shoal.physics.contact; 0: not a floating body)
+        self._friction = self.backend.asarray(np.array([float(getattr(m, "friction", 0.0)) for m in self.motions]
+                                                       or [0.0]))
         self._rotating = False
         self._wall_vectors = []  # (initial, current) id-indexed tables that turn with a rotating wall
         for m in self.motions:
@@ -933,8 +936,9 @@ class Model:
             if getattr(self, "_contact", None) is None or self._contact.shape[0] < n:
                 self._contact = b.zeros((max(n, 1), self.dim), np.float64)
             dc, k, c = contact_constants(self.rho0, self.c0, self.dp, self.dim)
-            b.timed(b.contact, n, (self.pos, self.vel, self.kind, self.idp, self.motion_of, dev_row, self.grid.cell,
-                                   self.grid.cell_start, self.grid.gdims_arr, self.P, dc, k, c, self._contact))
+            b.timed(b.contact, n, (self.pos, self.vel, self.kind, self.idp, self.motion_of, dev_row, self._friction,
+                                   self.planes, self.grid.cell, self.grid.cell_start, self.grid.gdims_arr, self.P, dc, k, c,
+                                   self._contact))
             force = self._contact
         else:
             self._wall_force_pass(only_moving=True)
