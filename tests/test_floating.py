@@ -382,14 +382,15 @@ def test_moored_box_3d_chains_hang_as_catenaries():
     assert np.all(np.einsum("ij,ij->i", forces[:, :2], toward) > 0) and np.all(forces[:, 2] < 0)
 
 
-def _dry_box(mu, velocity=(0.0, 0.0, 0.0), end_time=0.6, dp=0.02):
-    """2D: the box (B = 0.4 m, H = 0.2 m, density 2000: 160 kg/m) standing on the bed of a dry tank 1.6 m long,
-    frictional with coefficient `mu` (`shoal.physics.contact`); a puddle 0.2 m x 0.04 m at the far end is the
-    case's fluid (1.1 m away: it does not reach the box in `end_time`). c0 is that of 0.4 m of water."""
+def _dry_box(mu, velocity=(0.0, 0.0, 0.0), end_time=0.6, dp=0.02, boundary="dynamic"):
+    """2D: the box (B = 0.4 m, H = 0.2 m, density 2000: 160 kg/m) standing on the bed of a dry tank 1.6 m long
+    (its walls of `boundary` particles), frictional with coefficient `mu` (`shoal.physics.contact`); a puddle
+    0.2 m x 0.04 m at the far end is the case's fluid (1.1 m away: it does not reach the box in `end_time`).
+    c0 is that of 0.4 m of water."""
     body = Solid(name="box", shape=Box(lo=(0.1, 0, 0), hi=(0.1 + B, 0, H)),
                  floating=FloatingBody(density=2000.0, friction=mu, velocity=velocity))
     return Case(name="dry-box", dim=2, dp=dp, end_time=end_time, fluid=Fluid(depth=0.4, surface_level=0.04),
-                solids=[Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(1.6, 0, 0.4))), body],
+                solids=[Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(1.6, 0, 0.4)), boundary=boundary), body],
                 fluids=[FluidRegion(shape=Box(lo=(1.4, 0, 0), hi=(1.6, 0, 0.04)))], output=Output(interval=end_time))
 
 
@@ -428,6 +429,18 @@ def test_friction_stops_a_sliding_box():
     assert np.abs(vx[t > 0.5]).max() < 1e-3
     t, x, vx, _, _ = _track(_dry_box(0.0, velocity=(v0, 0.0, 0.0), end_time=0.34))
     assert vx[-1] > 0.99 * v0, vx[-1]
+
+
+def test_a_box_slides_on_a_repulsive_bed():
+    """On a bed of repulsive (Monaghan-Kajtar) particles, one layer at dp/2 spacing whose cells' outer face is
+    the bed's surface, the box stands with its bottom particles dp/2 above the surface (within 0.01 dp) and,
+    sent at 1 m/s with mu = 0.3, decelerates at mu g within 1 % (least squares over 0.05-0.25 s)."""
+    mu = 0.3
+    t, x, vx, z, _ = _track(_dry_box(mu, velocity=(1.0, 0.0, 0.0), end_time=0.3, boundary="repulsive"))
+    assert np.abs(z - H / 2).max() < 0.01 * 0.02, np.abs(z - H / 2).max() / 0.02
+    sliding = (t > 0.05) & (t < 0.25)
+    slope = np.polyfit(t[sliding], vx[sliding], 1)[0]
+    assert abs(slope / (-mu * G) - 1) < 0.01, slope / (-mu * G)
 
 
 def test_friction_holds_a_box_pulled_below_its_limit():

@@ -2,10 +2,12 @@
 
 Boundary particles do not interact with each other in SPH (a wall's pressure acts on the fluid only), so
 without this a floating body would pass through the bed, a wall or another body. Each boundary particle
-stands for its lattice cell, a square (3D: a cube) of side d_c = dp; here the cells are taken aligned with
-the world axes. A cell of a floating body's particle b and a cell of a dynamic boundary particle w of
-another solid (a fixed wall, a paddle, another body) overlap when |x_b - x_w| < d_c along every axis, by
-o_a = d_c - |x_b - x_w|_a on axis a. They push apart along the axis n of their least overlap (the
+stands for its lattice cell, a square (3D: a cube) of side d_c = dp, or d_c / 2 for a repulsive
+(Monaghan-Kajtar) particle, a node of the fine lattice whose outermost cells' faces are the wall's surface
+(`shoal.geometry.generate`); here the cells are taken aligned with the world axes. The cell of a floating
+body's particle b and the cell (half-side s_w) of a boundary particle w of another solid (a fixed wall, a
+paddle, another body) overlap when |x_b - x_w| < d_c / 2 + s_w along every axis, by
+o_a = d_c / 2 + s_w - |x_b - x_w|_a on axis a. They push apart along the axis n of their least overlap (the
 separating axis of two boxes; +-x, +-y or +-z, towards b) with a linear spring-dashpot scaled by the
 overlap's area across n, A = prod_{a != n} o_a / d_c^(dim-1):
 
@@ -17,8 +19,8 @@ a normal spring-dashpot that never attracts (the discrete-element contact of Cun
 tangential force that is Coulomb's friction mu F_n while the surfaces slide and a dashpot below that (the
 history-free regularised friction of Haff & Werner 1986, LAMMPS's ``gran/hooke``; DualSPHysics's DEM,
 Canelas et al. 2016, caps its Coulomb force the same way). Why cells and not spheres: the areas A of one
-cell over a flat wall of cells sum to one whatever its offset along the wall (the hat functions' partition
-of unity), so a body slides over a flat wall of particles as over a flat surface; spheres of diameter dp
+cell over a flat wall of cells sum to one whatever its offset along the wall (the overlaps' lengths along
+the wall add up to the cell's side), so a body slides over a flat wall of particles as over a flat surface; spheres of diameter dp
 (the contact of DualSPHysics's DEM) let each particle dip 0.13 dp between two of the wall's and the body
 ride over them as over cobbles (measured here: a frictionless box sliding at 1 m/s on a particle bed lost
 70 % of its speed in 0.35 s). The force is equal and opposite between two bodies' particles. A body that
@@ -59,7 +61,7 @@ a wall's reaction is not applied (walls do not move), another body's is its own 
 """
 
 from .rates import make_store
-from .spec import FIXED, MOVING
+from .spec import FLUID, MOVING, REPULSIVE, REPULSIVE_MOVING
 
 
 def contact_constants(rho0, c0, dp, dim):
@@ -85,7 +87,7 @@ def make_contact(jit, spec, make_gather, unpack):
         m, ux, uy, uz, dc, k, c, mu = own
         vel, kind, idp, motion_of, row, friction = data
         kj = kind[j]
-        if kj != FIXED and kj != MOVING:
+        if kj == FLUID or kj > REPULSIVE_MOVING:
             return acc
         if kj == MOVING:
             mj = motion_of[idp[j]]
@@ -93,9 +95,13 @@ def make_contact(jit, spec, make_gather, unpack):
                 return acc  # the body's own particle
             if row[mj] >= 0:
                 mu = 0.5 * (mu + friction[mj])  # another floating body: the mean of the two
-        ox = dc - abs(dx)
-        oz = dc - abs(dz)
-        oy = dc - abs(dy) if dim == 3 else dc
+        # j's cell: side dc, or dc/2 for a repulsive particle (a node of the fine lattice, whose outer face is
+        # the wall's surface)
+        hw = 0.5 * dc if kj < REPULSIVE else 0.25 * dc
+        reach = 0.5 * dc + hw
+        ox = reach - abs(dx)
+        oz = reach - abs(dz)
+        oy = reach - abs(dy) if dim == 3 else dc
         if ox <= 0.0 or oy <= 0.0 or oz <= 0.0:
             return acc
         # the separating axis: the least overlap; A, the overlap's area across it, over dc^(dim-1)
