@@ -36,6 +36,7 @@ from .registry import VALIDATION_CASES, get_cases
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .roll_decay import RollDecay
+from .ship_section_decay import ShipSectionDecay
 from .sluice_gate import SluiceGate
 from .spheric_test2 import SphericTest2
 from .wave_flume import WaveFlume
@@ -45,7 +46,7 @@ __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", 
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
            "FlapWaves", "FocusedWave", "HeaveDecay", "RollDecay",
-           "FloatingBoxWaves",
+           "ShipSectionDecay", "FloatingBoxWaves",
            "Archimedes", "SluiceGate", "BroadCrestedWeir",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 

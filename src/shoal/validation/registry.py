@@ -18,6 +18,7 @@ from .poiseuille import Poiseuille
 from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .roll_decay import RollDecay
+from .ship_section_decay import ShipSectionDecay
 from .sluice_gate import SluiceGate
 from .weir import BroadCrestedWeir
 from .spheric_test2 import SphericTest2
@@ -43,6 +44,7 @@ def all_cases():
         FlapWaves(),
         HeaveDecay(),
         RollDecay(),
+        ShipSectionDecay(),
         FloatingBoxWaves(),
         Archimedes(),
         SluiceGate(),
