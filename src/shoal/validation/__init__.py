@@ -37,6 +37,7 @@ from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .roll_decay import RollDecay
 from .ship_section_decay import ShipSectionDecay
+from .ship_section_waves import ShipSectionWaves
 from .sluice_gate import SluiceGate
 from .spheric_test2 import SphericTest2
 from .wave_flume import WaveFlume
@@ -46,7 +47,7 @@ __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", 
            "Hydrostatic", "DamBreak2D", "Poiseuille", "TidalBores", "UndularAmplitude", "RipCurrent",
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
            "FlapWaves", "FocusedWave", "HeaveDecay", "RollDecay",
-           "ShipSectionDecay", "FloatingBoxWaves",
+           "ShipSectionDecay", "FloatingBoxWaves", "ShipSectionWaves",
            "Archimedes", "SluiceGate", "BroadCrestedWeir",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 

@@ -19,6 +19,7 @@ from .resolution import ResolutionStudy
 from .rip_current import RipCurrent
 from .roll_decay import RollDecay
 from .ship_section_decay import ShipSectionDecay
+from .ship_section_waves import ShipSectionWaves
 from .sluice_gate import SluiceGate
 from .weir import BroadCrestedWeir
 from .spheric_test2 import SphericTest2
@@ -46,6 +47,7 @@ def all_cases():
         RollDecay(),
         ShipSectionDecay(),
         FloatingBoxWaves(),
+        ShipSectionWaves(),
         Archimedes(),
         SluiceGate(),
         BroadCrestedWeir(),
