@@ -203,11 +203,18 @@ def run_floating_waves(out, backend="cpu", **kw):
     -------
     dict
         t_body, body (x, z, pitch), t_gauges, gauges ({x: elevation}), window (`floating_waves_case`'s), wall
-        [s], n_fluid.
+        [s], n_fluid (`run_body_in_waves`).
     """
+    case, window = floating_waves_case(**kw)
+    return run_body_in_waves(case, window, out, backend)
+
+
+def run_body_in_waves(case, window, out, backend="cpu"):
+    """Run `case` (a floating body named "box" and wave gauges) in `out` and read its records: dict of t_body,
+    body (x, z, pitch of ``body_box.csv``), t_gauges, gauges ({x [m]: elevation}), window (passed through),
+    wall [s], n_fluid."""
     from .. import run_case
 
-    case, window = floating_waves_case(**kw)
     t0 = time.perf_counter()
     run_case(case, out, backend=backend, plot=False, progress=False, handle_signals=False, overwrite=True)
     wall = time.perf_counter() - t0

@@ -30,7 +30,6 @@ from __future__ import annotations
 import csv
 import math
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -140,25 +139,12 @@ def ship_section_waves_case(xi=1.0, height=0.04, dp=0.02, body_l=2.8, gauges_l=(
 
 
 def run_ship_section_waves(out, backend="cpu", **kw):
-    """Run `ship_section_waves_case` (keywords passed on) in `out`: dict of t_body, body (x, z, pitch), t_gauges,
-    gauges ({x: elevation}), window, wall [s], n_fluid (`shoal.validation.floating_waves.run_floating_waves`'s)."""
-    from .. import run_case
-    from .floating_waves import _read_csv
+    """Run `ship_section_waves_case` (keywords passed on) in `out`: the records of
+    `shoal.validation.floating_waves.run_body_in_waves`."""
+    from .floating_waves import run_body_in_waves
 
     case, window = ship_section_waves_case(**kw)
-    t0 = time.perf_counter()
-    run_case(case, out, backend=backend, plot=False, progress=False, handle_signals=False, overwrite=True)
-    wall = time.perf_counter() - t0
-    out = Path(out)
-    b = _read_csv(out / "body_box.csv")
-    gauges, t_g = {}, None
-    for pr in case.probes:
-        g = _read_csv(out / f"gauge_{pr.name}.csv")
-        cols = list(g)
-        t_g = g[cols[0]]
-        gauges[pr.x] = g[cols[1]]
-    return dict(t_body=b["time"], body={c: b[c] for c in ("x", "z", "pitch")}, t_gauges=t_g, gauges=gauges,
-                window=window, wall=wall, n_fluid=case.n_fluid)
+    return run_body_in_waves(case, window, out, backend)
 
 
 def compare_responses(run, reference):
