@@ -219,6 +219,10 @@ class ShipSectionWaves(ValidationCase):
         result.metrics = [Metric(f"{names[q]} against the experiment", errors[q], TOLERANCE,
                                  note=f"{measured[q]:.3f} against {ref[q]:.3f} (records within {ref[q + '_spread']:.3f})")
                           for q in ("sway_rao", "heave_rao", "roll_rao")]
+        result.metrics += [
+            Metric("incident amplitude at the section (Mansard & Funke)", 1e3 * measured["amplitude"], None, unit="mm",
+                   note=f"the flap's target {500 * self.HEIGHT:.1f} mm"),
+            Metric("reflection coefficient of the section", measured["reflection"], None, unit="")]
         fig = figure(height=5.0)
         w = d["window"]
         for j, (col, lab, scale) in enumerate((("x", "sway [m]", 1.0), ("z", "heave [m]", 1.0),
@@ -230,4 +234,4 @@ class ShipSectionWaves(ValidationCase):
             ax.set_ylabel(lab, fontsize=8)
         ax.set_xlabel("t [s]")
         path = save_png(fig, Path(result.out) / "ship_section_waves.png")
-        return [path], all(x.passed for x in result.metrics)
+        return [path], all(x.passed for x in result.metrics if x.tolerance is not None)
