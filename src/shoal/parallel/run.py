@@ -54,6 +54,7 @@ from __future__ import annotations
 
 import sys
 import tempfile
+import time
 import traceback
 from pathlib import Path
 from types import SimpleNamespace
@@ -86,6 +87,9 @@ def abort(comm, err):
     try:
         sys.__stderr__.write(text)
         sys.__stderr__.flush()
+        # MPI_Abort has mpiexec kill every rank at once, and its output forwarding may not have read the message
+        # from this rank's pipe yet (seen on a loaded 2-core machine: the run ended with an empty stderr)
+        time.sleep(0.5)
     finally:
         comm.Abort(_status(err))
 
