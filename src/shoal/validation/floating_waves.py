@@ -196,6 +196,21 @@ def _read_csv(path):
     return {h: rows[:, i] for i, h in enumerate(head)}
 
 
+def run_record(run, dp):
+    """A `run_body_in_waves` result as plain lists (a validation result's ``data``): t_body, body, t_gauges,
+    gauges (keys as text), window, dp; `run_from_record` reads it back."""
+    return dict(t_body=run["t_body"].tolist(), body={c: v.tolist() for c, v in run["body"].items()},
+                t_gauges=run["t_gauges"].tolist(), gauges={str(x): v.tolist() for x, v in run["gauges"].items()},
+                window=run["window"], dp=dp)
+
+
+def run_from_record(d):
+    """The arrays of a `run_record`: t_body, body, t_gauges, gauges ({x [m]: elevation}), window."""
+    return dict(t_body=np.array(d["t_body"]), body={c: np.array(v) for c, v in d["body"].items()},
+                t_gauges=np.array(d["t_gauges"]), gauges={float(x): np.array(v) for x, v in d["gauges"].items()},
+                window=d["window"])
+
+
 def run_floating_waves(out, backend="cpu", **kw):
     """Run `floating_waves_case` (keywords passed on) in `out`.
 
@@ -279,9 +294,7 @@ class FloatingBoxWaves(ValidationCase):
         with tempfile.TemporaryDirectory(prefix="shoal-validate-") as tmp:
             r = run_floating_waves(Path(tmp) / "run", backend=backend, **p)
         res.run_seconds = r["wall"]
-        res.data = dict(t_body=r["t_body"].tolist(), body={c: v.tolist() for c, v in r["body"].items()},
-                        t_gauges=r["t_gauges"].tolist(), gauges={str(x): v.tolist() for x, v in r["gauges"].items()},
-                        window=r["window"], dp=p["dp"])
+        res.data = run_record(r, p["dp"])
         res.resolution = f"dp = {p['dp']} m (B = {BEAM / p['dp']:.0f} dp, draft {0.5 * BOX_HEIGHT / p['dp']:.1f} dp)"
         res.particles = f"{r['n_fluid']} fluid"
         return res

@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .core import Metric, ValidationCase, figure, save_png
+from .floating_waves import run_from_record, run_record
 from .ship_section_decay import BEAM, DRAFT, INERTIA, KG, MASS, WATER, section_vertices
 
 G = 9.81
@@ -200,18 +201,14 @@ class ShipSectionWaves(ValidationCase):
         with tempfile.TemporaryDirectory(prefix="shoal-validate-") as tmp:
             run = run_ship_section_waves(Path(tmp) / "run", backend, **p)
         res.run_seconds = run["wall"]
-        res.data = dict(t_body=run["t_body"].tolist(), body={c: v.tolist() for c, v in run["body"].items()},
-                        t_gauges=run["t_gauges"].tolist(), gauges={str(x): v.tolist() for x, v in run["gauges"].items()},
-                        window=run["window"], dp=p["dp"])
+        res.data = run_record(run, p["dp"])
         res.resolution = f"dp = {p['dp']} m (B = {BEAM / p['dp']:.0f} dp, H = {p['height'] / p['dp']:.0f} dp)"
         res.particles = f"{run['n_fluid']} fluid"
         return res
 
     def compare(self, result):
         d = result.data
-        run = dict(t_body=np.array(d["t_body"]), body={c: np.array(v) for c, v in d["body"].items()},
-                   t_gauges=np.array(d["t_gauges"]), gauges={float(x): np.array(v) for x, v in d["gauges"].items()},
-                   window=d["window"])
+        run = run_from_record(d)
         ref = reference_at(self.XI)
         measured, errors = compare_responses(run, ref)
         result.data["measured"], result.data["reference"] = measured, ref
