@@ -217,7 +217,7 @@ class Archimedes(ValidationCase):
              "(2B), released at rest at its floating draft (where Archimedes puts it), 0.8 s, the last 0.7 s (a "
              "heave period) averaged: the 3D coupling's buoyancy carries the weight at that draft, level and in "
              "place. `--full`: released 1 dp above the draft, 10 s each, the last 4 s averaged: 2D at dp = 0.02 m; "
-             "3D at dp = 0.01 m (H = 10 dp) in a tank 0.6 m square (3B).")
+             "3D at dp = 0.0125 m (H = 8 dp) in a tank 0.4 m square (2B).")
     reference = ("Archimedes' principle: a box of density rho0 / 2 floats with half its height under water, its "
                  "centre of gravity at the water level, level = (n_fluid dp^dim + M / rho0) / A (the fluid's "
                  "volume, each particle one lattice cell, and the box's displacement, over the tank's plan area). "
@@ -242,7 +242,7 @@ class Archimedes(ValidationCase):
                          window=0.7, tol=QUICK_3D_DRAFT_TOLERANCE)]
         else:
             runs = [dict(label="2D", case=dict(dim=2, dp=0.02, end_time=10.0), window=4.0, tol=DRAFT_TOLERANCE),
-                    dict(label="3D", case=dict(dim=3, dp=0.01, beam=0.2, height=0.1, depth=0.2, length=0.6,
+                    dict(label="3D", case=dict(dim=3, dp=0.0125, beam=0.2, height=0.1, depth=0.2, length=0.4,
                                                end_time=10.0), window=4.0, tol=DRAFT_TOLERANCE)]
         return [r for r in runs if self.only is None or r["label"] in self.only]
 
