@@ -9,6 +9,11 @@ output was not kept, the record of the measurement: an object with the ``command
 ``commit`` and ``date`` when they are known) and ``recorded_in``, the file under `results/` that holds the
 figures as they were first written down (`results/notes/README.md`).
 
+A data file may instead name validation cases (``validation_cases``, a list of case names): its rows are then
+the judged figures of those cases in the committed validation report's `validation/results.json` (what
+`shoal validate --out validation` writes), each with its tolerance, verdict, mode and the commit it was measured
+on, so that a page's validation figures are the report's.
+
 A page shows table NAME between the markers ``<!-- table NAME -->`` and ``<!-- end table NAME -->``, each on a
 line of its own (a marker quoted inside a line is text); the pages are README.md and every Markdown file under
 `docs/` (not a build's output).
@@ -34,6 +39,7 @@ RESULTS = HERE / "results"
 TABLES = RESULTS / "tables"
 README = ROOT / "README.md"
 DOCS = ROOT / "docs"
+VALIDATION = ROOT / "validation" / "results.json"
 
 BEGIN = re.compile(r"^<!-- table (\S+) -->$", re.M)
 
@@ -43,7 +49,41 @@ def markers(name):
 
 
 def load(name):
-    return json.loads((TABLES / f"{name}.json").read_text())
+    d = json.loads((TABLES / f"{name}.json").read_text())
+    if "validation_cases" in d:
+        d = dict(d, rows=validation_rows(d["validation_cases"]))
+    return d
+
+
+def validation_rows(cases):
+    """The rows of the judged figures (a tolerance given) of validation `cases`, in that order, from the
+    committed report's entries (`VALIDATION`): measured, tolerance, verdict, and the run (mode, resolution,
+    date and commit). A case not in the report has one row saying so and how to run it."""
+    from shoal.validation.core import Metric
+
+    entries = {e["case"]: e for e in json.loads(VALIDATION.read_text())}
+    rows = []
+    for case in cases:
+        source = [dict(validation=rel(VALIDATION), case=case)]
+        e = entries.get(case)
+        if e is None or e.get("status") != "run":
+            rows.append(dict(measure=f"`{case}`", values=["not in the committed report", "-", "-",
+                                                          f"`shoal validate {case}`"], **{"from": source}))
+            continue
+        run = f"{e['mode']}, {e['resolution']}; {e.get('measured') or 'date not recorded'}" + \
+            (f", `{e['commit'][:7]}`" if e.get("commit") else "") + (" (uncommitted changes)" if e.get("dirty") else "")
+        for m in e["metrics"]:
+            metric = Metric(**m)
+            if metric.tolerance is None:
+                continue
+            rows.append(dict(measure=f"`{case}`: {_cell(metric.name)}",
+                             values=[metric.value_text, metric.tolerance_text.replace("<= ", ""), metric.verdict,
+                                     _cell(run)], **{"from": source}))
+    return rows
+
+
+def _cell(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
 
 
 def names():

@@ -41,6 +41,10 @@ def test_table_is_its_data_file(name):
             if isinstance(f, str):  # a raw output kept in the repository
                 assert (MOD.RESULTS / f).is_file(), f
                 continue
+            if "validation" in f:  # a validation case's entry in the committed report
+                assert (MOD.ROOT / f["validation"]).is_file(), f
+                assert f["case"] in data["validation_cases"], f
+                continue
             # a measurement whose raw output was not kept: its command, and the figures where first written down
             assert f.get("command"), (row["measure"], f)
             record = MOD.RESULTS / f["recorded_in"]
@@ -54,6 +58,27 @@ def test_every_shown_table_has_data():
     for page in MOD.pages():
         for name in MOD.shown(page.read_text()):
             assert name in MOD.names(), f"{page.relative_to(ROOT)} shows table {name} with no data file"
+
+
+def test_validation_table_rows_are_the_committed_report(tmp_path, monkeypatch):
+    """A table naming validation cases shows each judged figure of their entries in the report's results.json
+    (value, tolerance, verdict as the report prints them, and the run), and says so when a case is not there."""
+    import json
+
+    entry = dict(case="heave-decay", status="run", mode="full", resolution="dp = 0.01 m", measured="2026-12-07",
+                 commit="0123456789abcdef0123456789abcdef01234567", dirty=False,
+                 metrics=[dict(name="period | error", value=-0.0123, tolerance=0.1, unit="%"),
+                          dict(name="for information", value=0.5, tolerance=None, unit="%"),
+                          dict(name="drift", value=0.2, tolerance=0.1, unit="dp")])
+    results = tmp_path / "results.json"
+    results.write_text(json.dumps([entry]))
+    monkeypatch.setattr(MOD, "VALIDATION", results)
+    rows = MOD.validation_rows(["heave-decay", "roll-decay"])
+    assert [r["values"][:3] for r in rows] == [["-1.23 %", "10.00 %", "PASS"], ["0.2 dp", "0.1 dp", "FAIL"],
+                                               ["not in the committed report", "-", "-"]]
+    assert rows[0]["measure"] == "`heave-decay`: period \\| error"
+    assert rows[0]["values"][3] == "full, dp = 0.01 m; 2026-12-07, `0123456`"
+    assert rows[2]["values"][3] == "`shoal validate roll-decay`"
 
 
 def test_there_are_tables():
