@@ -20,6 +20,10 @@ Fluid loads
     ranks, each rank its own particles, then a sum). By construction the fluid receives -F: fluid and
     body together conserve momentum to the round-off of the pair forces.
 
+A body with a ``release_time`` keeps its state over every step that starts before that time, its particles at
+rest (its loads are still measured and written, its moorings stepped; its initial velocities apply from the
+release): the water settles around it first, as DualSPHysics's ``FtPause``.
+
 Time stepping (with shoal's integrators, stage by stage)
     symplectic and predictor-corrector:  state^{n+1/2} = predict(state^n, loads^n, dt/2), the particles
     placed there, rates at n+1/2, state^{n+1} = advance(state^n, loads^{n+1/2}, dt) (`RigidBody.predict`,
@@ -58,16 +62,22 @@ class FloatingMotion:
         The loads besides the fluid's, each ``load(body, state, t) -> (F, T)`` (`shoal.body_loads`).
     friction : float
         Coulomb's friction coefficient of the body's contacts with the walls and other bodies.
+    release_time : float
+        [s] The body keeps its initial state over every step that starts before this time.
     """
 
     floating = True
 
-    def __init__(self, name, body, state, loads=(), friction=0.0):
+    def __init__(self, name, body, state, loads=(), friction=0.0, release_time=0.0):
         self.name = name
         self.body = body
         self.state = state
         self.friction = float(friction)
         """Coulomb's coefficient mu of the body's contacts (`shoal.physics.contact`)."""
+        self.release_time = float(release_time)
+        """[s] Held (its state unchanged) over each step that starts before it."""
+        self.held = self.release_time > 0.0
+        """Whether the current step started before `release_time`: the particles then stand still."""
         self.loads = list(loads)
         self._other = total_loads(body, self.loads)
 
@@ -84,8 +94,13 @@ class FloatingMotion:
 
     def rigid_kinematics(self, t, acceleration=True):
         """The kinematics of the current state (`shoal.rigid_body.RigidBody.kinematics`); `t` is the time
-        the integrator places the particles at, which the coupling has already stepped the state to."""
-        return self.body.kinematics(self.state)
+        the integrator places the particles at, which the coupling has already stepped the state to. While
+        `held`, the state's position and orientation at rest (its initial velocities apply from the release)."""
+        s = self.state
+        if self.held:
+            zero = np.zeros(3)
+            s = s._replace(velocity=zero, angular_velocity=zero, acceleration=zero, angular_acceleration=zero)
+        return self.body.kinematics(s)
 
     def add_load(self, load):
         """Add ``load(body, state, t) -> (F, T)`` to the loads besides the fluid's."""
@@ -175,6 +190,9 @@ class BodyCoupling:
         for j, b in enumerate(self.bodies):
             s = b.state
             self._start[j] = s
+            b.held = t < b.release_time
+            if b.held:
+                continue
             f, tq = self._total(j, s, t)
             b.state = b.body.predict(s, f, tq, 0.5 * dt)
 
@@ -183,6 +201,8 @@ class BodyCoupling:
         the loads measured at the half step."""
         self._joints_now()
         for j, b in enumerate(self.bodies):
+            if b.held:
+                continue
             f, tq = self._total(j, b.state, t + 0.5 * dt)
             b.state = b.body.advance(self._start[j], f, tq, dt)
 
@@ -191,16 +211,20 @@ class BodyCoupling:
         self._step_moorings(t, dt)
         self._joints_now()
         for j, b in enumerate(self.bodies):
+            b.held = t < b.release_time
+            if b.held:
+                continue
             s = b.state
             f, tq = self._total(j, s, t)
             b.state = b.body.advance(s, f, tq, dt)
 
     # ------------------------------------------------------------------ checkpoints
     def checkpoint_state(self):
-        """{"bodies": each body's state as plain lists of floats (exact in JSON), by name; "moorings": each
-        mooring's state (`shoal.mooring.Mooring.checkpoint_state`), base64 text}."""
-        return {"bodies": [{"name": b.name, **{k: np.asarray(v, float).ravel().tolist()
-                                               for k, v in zip(_STATE_FIELDS, b.state)}} for b in self.bodies],
+        """{"bodies": each body's state as plain lists of floats (exact in JSON), by name, and whether it is
+        held; "moorings": each mooring's state (`shoal.mooring.Mooring.checkpoint_state`), base64 text}."""
+        return {"bodies": [{"name": b.name, "held": b.held, **{k: np.asarray(v, float).ravel().tolist()
+                                                             for k, v in zip(_STATE_FIELDS, b.state)}}
+                           for b in self.bodies],
                 "moorings": [base64.b64encode(m.checkpoint_state()).decode("ascii") for m in self.moorings]}
 
     def restore_state(self, saved):
@@ -222,6 +246,7 @@ class BodyCoupling:
             fields = {k: np.array(s[k], float) for k in _STATE_FIELDS}
             fields["rotation"] = fields["rotation"].reshape(3, 3)
             b.state = BodyState(**fields)
+            b.held = bool(s.get("held", False))
         self._start = [b.state for b in self.bodies]
 
 
@@ -248,7 +273,8 @@ def floating_bodies(case, gravity):
         nodes = solid_nodes(case.dim, case.dp, inputs, k, case.lattice_origin)
         body, state = s.floating.rigid_body(nodes, case.dp, case.dim)
         loads = [Gravity(gravity), *s.floating.springs]
-        out.append(FloatingMotion(s.name or f"solid{k}", body, state, loads, friction=s.floating.friction))
+        out.append(FloatingMotion(s.name or f"solid{k}", body, state, loads, friction=s.floating.friction,
+                                  release_time=s.floating.release_time))
     names = [b.name for b in out]
     moorings = []
     for spec in case.moorings:

@@ -35,8 +35,8 @@ def check_relaxation_zones(case, lo, hi):
 
 
 def floating_lines(case):
-    """Lines giving each floating body's mass, volume, centre of gravity, inertia, constraints and friction
-    coefficient (2D: per metre of width), from its lattice nodes and the values the case gives (`shoal.floating.FloatingBody`)."""
+    """Lines giving each floating body's mass, volume, centre of gravity, inertia, constraints, friction
+    coefficient, release time (2D: per metre of width), from its lattice nodes and the values the case gives (`shoal.floating.FloatingBody`)."""
     from .geometry.generate import solid_nodes
 
     lines = []
@@ -61,7 +61,8 @@ def floating_lines(case):
         size = f"area {volume:.4g} m^2" if case.dim == 2 else f"volume {volume:.4g} m^3"
         lines.append(f"  floating {s.name or f'solids[{k}]'}: mass {mp.mass:.4g} kg{unit}, {size} "
                      f"(density {mp.mass / volume:.4g} kg/m^3), centre of gravity "
-                     f"({c}) m, {inertia} kg m^2{unit}; {how}" + (f"; friction {f.friction:g}" if f.friction else ""))
+                     f"({c}) m, {inertia} kg m^2{unit}; {how}" + (f"; friction {f.friction:g}" if f.friction else "") +
+                     (f"; held until t = {f.release_time:g} s" if f.release_time else ""))
     return lines
 
 

@@ -79,6 +79,9 @@ class FloatingBody(Spec):
     friction : float
         Coulomb's friction coefficient mu >= 0 of the body's contacts with the walls and the other bodies
         (`shoal.physics.contact`; two floating bodies take the mean of theirs); default 0, frictionless.
+    release_time : float
+        [s] The body is held where it starts until this time, its loads measured and written, so that the
+        water settles around it before it moves (DualSPHysics's ``FtPause``); default 0, free from the start.
     interval : float, optional
         Seconds between the rows of the body's CSV (``body_<name>.csv``, `shoal.probes.body_recorder`);
         default: the case's output interval.
@@ -94,6 +97,7 @@ class FloatingBody(Spec):
     hinge: Hinge | None = None
     springs: list[SpringDamper] = Field(default_factory=list)
     friction: Annotated[float, Field(ge=0, allow_inf_nan=False, strict=True)] = 0.0
+    release_time: Annotated[float, Field(ge=0, allow_inf_nan=False)] = 0.0
     interval: PositiveReal | None = None
 
     @field_validator("inertia")
