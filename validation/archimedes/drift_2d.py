@@ -1,12 +1,17 @@
 """The full 2D Archimedes box's sideways drift, run by run: how it grows, and what changes it.
 
 Runs the `--full` 2D box of `shoal validate archimedes` (dp = 0.02 m, H = 10 dp, 10 s) with the changes asked
-for, and prints `settled_metrics` and the largest drift of the centre [dp] up to t = 2, 4, ..., 10 s.
+for, and prints `settled_metrics` and the largest drift of the centre [dp] and tilt [deg] up to t = 2, 4, ..., 10 s.
 
     python validation/archimedes/drift_2d.py --out runs/drift                      # as the validation runs it
     python validation/archimedes/drift_2d.py --out runs/drift64 --precision float64
     python validation/archimedes/drift_2d.py --out runs/driftz --zones 0.3         # damping zones at both ends
     python validation/archimedes/drift_2d.py --out runs/drift0 --offset 0          # released at its draft
+    python validation/archimedes/drift_2d.py --out runs/driftx --fixed x           # the sway held
+    python validation/archimedes/drift_2d.py --out runs/drifta --no-wall-acceleration
+
+`--no-wall-acceleration` (a diagnosis, not a scheme) leaves the body's acceleration out of the Adami wall
+pressure's extrapolation (`shoal.physics.wall_pressure`) by giving the wall kinematics without it.
 """
 
 from __future__ import annotations
@@ -16,7 +21,9 @@ import argparse
 import numpy as np
 
 import shoal
+from shoal.body_coupling import FloatingMotion
 from shoal.case import DampingZone
+from shoal.floating import FloatingBody
 from shoal.options import SPHOptions
 from shoal.validation.archimedes import archimedes_case, equilibrium_level, read_body_csv, settled_metrics
 
@@ -29,8 +36,19 @@ def main(argv=None):
     ap.add_argument("--precision", choices=("float32", "float64"), default="float32")
     ap.add_argument("--zones", type=float, default=0.0, help="damping zones this long [m] at both ends")
     ap.add_argument("--offset", type=float, default=DP, help="released this far above its draft [m]")
+    ap.add_argument("--fixed", nargs="*", default=[], choices=("x", "z"), help="degrees of freedom held")
+    ap.add_argument("--no-wall-acceleration", action="store_true")
     a = ap.parse_args(argv)
+    if a.no_wall_acceleration:
+        def without_acceleration(self, t, acceleration=True):
+            zero = np.zeros(3)
+            return self.body.kinematics(self.state._replace(acceleration=zero, angular_acceleration=zero))
+        FloatingMotion.rigid_kinematics = without_acceleration
     case = archimedes_case(dim=2, dp=DP, end_time=10.0, offset=a.offset, options=SPHOptions(precision=a.precision))
+    if a.fixed:
+        box = case.solids[1]
+        held = FloatingBody(density=box.floating.density, interval=box.floating.interval, fixed=a.fixed)
+        case = case.model_copy(update=dict(solids=[case.solids[0], box.model_copy(update=dict(floating=held))]))
     if a.zones > 0:
         case = case.model_copy(update=dict(damping=[DampingZone(start=(a.zones, 0, 0), end=(0, 0, 0)),
                                                     DampingZone(start=(LENGTH - a.zones, 0, 0), end=(LENGTH, 0, 0))]))
@@ -38,9 +56,11 @@ def main(argv=None):
     r = read_body_csv(f"{a.out}/body_box.csv")
     level = equilibrium_level(case.n_fluid, DP, 2, 500.0 * BEAM * HEIGHT, LENGTH)
     print(settled_metrics(r["time"], r["x"], r["y"], r["z"], r["roll"], r["pitch"], level, HEIGHT, DP, 4.0))
-    t, x = r["time"], r["x"]
+    t, x, pitch = r["time"], r["x"], r["pitch"]
     for tt in (2, 4, 6, 8, 10):
-        print(f"t <= {tt:2d} s: largest drift {np.abs(x[t <= tt + 1e-9] - x[0]).max() / DP:.3g} dp")
+        upto = t <= tt + 1e-9
+        print(f"t <= {tt:2d} s: largest drift {np.abs(x[upto] - x[0]).max() / DP:.3g} dp, "
+              f"largest tilt {np.abs(pitch[upto]).max():.3g} deg")
 
 
 if __name__ == "__main__":
