@@ -9,6 +9,8 @@ for, and prints `settled_metrics` and the largest drift of the centre [dp] and t
     python validation/archimedes/drift_2d.py --out runs/drift0 --offset 0          # released at its draft
     python validation/archimedes/drift_2d.py --out runs/driftx --fixed x           # the sway held
     python validation/archimedes/drift_2d.py --out runs/drifta --no-wall-acceleration
+    python validation/archimedes/drift_2d.py --out runs/driftv --option integrator=verlet
+    python validation/archimedes/drift_2d.py --out runs/driftd --option wall_pressure=dynamic
 
 `--no-wall-acceleration` (a diagnosis, not a scheme) leaves the body's acceleration out of the Adami wall
 pressure's extrapolation (`shoal.physics.wall_pressure`) by giving the wall kinematics without it.
@@ -38,13 +40,22 @@ def main(argv=None):
     ap.add_argument("--offset", type=float, default=DP, help="released this far above its draft [m]")
     ap.add_argument("--fixed", nargs="*", default=[], choices=("x", "z"), help="degrees of freedom held")
     ap.add_argument("--no-wall-acceleration", action="store_true")
+    ap.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
+                    help="an SPHOptions field (numbers as numbers), e.g. integrator=verlet")
     a = ap.parse_args(argv)
     if a.no_wall_acceleration:
         def without_acceleration(self, t, acceleration=True):
             zero = np.zeros(3)
             return self.body.kinematics(self.state._replace(acceleration=zero, angular_acceleration=zero))
         FloatingMotion.rigid_kinematics = without_acceleration
-    case = archimedes_case(dim=2, dp=DP, end_time=10.0, offset=a.offset, options=SPHOptions(precision=a.precision))
+    options = {"precision": a.precision}
+    for item in a.option:
+        key, _, value = item.partition("=")
+        try:
+            options[key] = float(value)
+        except ValueError:
+            options[key] = value
+    case = archimedes_case(dim=2, dp=DP, end_time=10.0, offset=a.offset, options=SPHOptions(**options))
     if a.fixed:
         box = case.solids[1]
         held = FloatingBody(density=box.floating.density, interval=box.floating.interval, fixed=a.fixed)
