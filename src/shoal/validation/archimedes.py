@@ -216,7 +216,7 @@ class Archimedes(ValidationCase):
              "above its draft, 3 s, the last 1 s averaged; 3D at dp = 0.025 m (H = 4 dp) in a tank 0.4 m square "
              "(2B), released at rest at its floating draft (where Archimedes puts it), 0.8 s, the last 0.7 s (a "
              "heave period) averaged: the 3D coupling's buoyancy carries the weight at that draft, level and in "
-             "place. `--full`: released 1 dp above the draft, 10 s each, the last 4 s averaged: 2D at dp = 0.02 m; "
+             "place. `--full`: released 1 dp above the draft, 10 s each, the last 4 s averaged: 2D at dp = 0.01 m (H = 20 dp); "
              "3D at dp = 0.0125 m (H = 8 dp) in a tank 0.4 m square (2B).")
     reference = ("Archimedes' principle: a box of density rho0 / 2 floats with half its height under water, its "
                  "centre of gravity at the water level, level = (n_fluid dp^dim + M / rho0) / A (the fluid's "
@@ -241,7 +241,7 @@ class Archimedes(ValidationCase):
                                                offset=0.0, end_time=0.8, interval=0.005),
                          window=0.7, tol=QUICK_3D_DRAFT_TOLERANCE)]
         else:
-            runs = [dict(label="2D", case=dict(dim=2, dp=0.02, end_time=10.0), window=4.0, tol=DRAFT_TOLERANCE),
+            runs = [dict(label="2D", case=dict(dim=2, dp=0.01, end_time=10.0), window=4.0, tol=DRAFT_TOLERANCE),
                     dict(label="3D", case=dict(dim=3, dp=0.0125, beam=0.2, height=0.1, depth=0.2, length=0.4,
                                                end_time=10.0), window=4.0, tol=DRAFT_TOLERANCE)]
         return [r for r in runs if self.only is None or r["label"] in self.only]
