@@ -27,7 +27,6 @@ import numpy as np
 import shoal
 from shoal.body_coupling import FloatingMotion
 from shoal.case import DampingZone
-from shoal.floating import FloatingBody
 from shoal.options import SPHOptions
 from shoal.validation.archimedes import archimedes_case, equilibrium_level, read_body_csv, settled_metrics
 
@@ -59,12 +58,8 @@ def main(argv=None):
             options[key] = float(value)
         except ValueError:
             options[key] = value
-    case = archimedes_case(dim=2, dp=DP, end_time=a.end, offset=a.offset, options=SPHOptions(**options))
-    if a.fixed or a.release:
-        box = case.solids[1]
-        held = FloatingBody(density=box.floating.density, interval=box.floating.interval, fixed=a.fixed,
-                            release_time=a.release)
-        case = case.model_copy(update=dict(solids=[case.solids[0], box.model_copy(update=dict(floating=held))]))
+    case = archimedes_case(dim=2, dp=DP, end_time=a.end, offset=a.offset, options=SPHOptions(**options),
+                           floating=dict(fixed=a.fixed, release_time=a.release))
     if a.zones > 0:
         case = case.model_copy(update=dict(damping=[DampingZone(start=(a.zones, 0, 0), end=(0, 0, 0)),
                                                     DampingZone(start=(LENGTH - a.zones, 0, 0), end=(LENGTH, 0, 0))]))

@@ -27,7 +27,6 @@ import argparse
 import numpy as np
 from scipy.spatial import cKDTree
 
-from shoal.floating import FloatingBody
 from shoal.physics.eos import pressure_of, tait_coefficient
 from shoal.physics.kernels import WENDLAND, grad_factor_array
 from shoal.physics.spec import kernel_normalisation
@@ -40,15 +39,13 @@ RHO, G = 1000.0, 9.81
 def held_box(dim, dp, end_time):
     """The Archimedes case of `dim` at `dp` (3D: the quick case's box and tank) with the box held at its draft,
     run to `end_time`; returns the model and the box's corners."""
-    kw = dict(dim=dim, dp=dp, offset=0.0, end_time=end_time)
+    kw = dict(dim=dim, dp=dp, offset=0.0, end_time=end_time,
+              floating=dict(fixed=["x", "y", "z", "rx", "ry", "rz"]))
     if dim == 3:
         kw.update(beam=0.2, height=0.1, depth=0.2, length=0.4, interval=0.005)
     case = archimedes_case(**kw)
-    box = case.solids[1]
     assert case.options.kernel == "wendland", "the NumPy sums below are Wendland's"
-    held = FloatingBody(density=box.floating.density, interval=box.floating.interval,
-                        fixed=["x", "y", "z", "rx", "ry", "rz"])
-    case = case.model_copy(update=dict(solids=[case.solids[0], box.model_copy(update=dict(floating=held))]))
+    box = case.solids[1]
     sim = Simulation(case)
     while sim.time < end_time:
         sim.step()

@@ -110,7 +110,7 @@ def gauge_level(t, zmax, dp, window):
 
 # ------------------------------------------------------------------ the case
 def archimedes_case(dim=2, dp=0.02, beam=0.4, height=0.2, depth=0.4, length=1.2, density=500.0, offset=None,
-                    end_time=3.0, interval=0.01, options=None):
+                    end_time=3.0, interval=0.01, options=None, floating=None):
     """A box of density `density` released at rest with its bottom `offset` (default dp) above its floating
     draft T = height density / rho0, in the middle of a closed tank `length` long (3D: `length` square) with
     still water `depth` deep (the water fills the tank to `depth` around the box).
@@ -118,7 +118,8 @@ def archimedes_case(dim=2, dp=0.02, beam=0.4, height=0.2, depth=0.4, length=1.2,
     2D: the box is `beam` x `height` (x, z); 3D: `beam` x `beam` x `height`. The tank's walls reach
     depth + height / 2 + 2 dp (above the water; the box stands out of them). Max-z gauges halfway
     between the box and the walls give the water level, every `interval` s (``maxz_w<k>.csv``). The case's
-    default scheme (`shoal.options.SPHOptions`) unless `options` are given.
+    default scheme (`shoal.options.SPHOptions`) unless `options` are given; `floating`, a dict of further
+    `shoal.floating.FloatingBody` fields for the box (e.g. ``fixed``, ``release_time``).
     """
     from ..case import Case, Fluid, FluidRegion, Output, Solid
     from ..floating import FloatingBody
@@ -131,7 +132,7 @@ def archimedes_case(dim=2, dp=0.02, beam=0.4, height=0.2, depth=0.4, length=1.2,
     c = 0.5 * length
     y0, y1, ly = (c - beam / 2, c + beam / 2, length) if dim == 3 else (0.0, 0.0, 0.0)
     body = Solid(name="box", shape=Box(lo=(c - beam / 2, y0, zb), hi=(c + beam / 2, y1, zb + height)),
-                 floating=FloatingBody(density=density, interval=interval))
+                 floating=FloatingBody(density=density, interval=interval, **(floating or {})))
     q = 0.25 * (length - beam)  # halfway between the box and a wall
     spots = [(q, 0.0), (length - q, 0.0)] if dim == 2 else [(q, c), (length - q, c), (c, q), (c, length - q)]
     gauges = [MaxZGauge(name=f"w{k}", x=x, y=y, radius=1.5 * dp, interval=interval)
