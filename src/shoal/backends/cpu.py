@@ -17,6 +17,7 @@ import numpy as np
 
 from ..faults import reached
 from ..neighbours.grid import CellGrid
+from ..neighbours.half_sweep import COLOURS, deal_tiles, tile_counter
 from ..physics.identity import shared_loop
 from ..physics.spec import FLUID, MOVING
 from .loops import attach_loops, row_columns
@@ -79,6 +80,63 @@ def cache_name(fn):
     name = getattr(fn, "py_func", fn).__name__
     digest = hashlib.sha1(str(fn._uuid).encode()).hexdigest()[:16]
     return f"for_each_{name}_{digest}"
+
+
+def _build_mutual_sweep(tile):
+    # the threads sweep the tiles dealt to them (`shoal.neighbours.half_sweep`), colour after colour: a
+    # parallel loop of `threads` iterations, one a thread
+    def run(n, args, threads, cost, colour_of, order, starts):
+        (pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, mu_max, tau, planes,
+         ptable, vwall, idp, ghosts, gid0) = args
+        n_tiles = colour_of.shape[0]
+        for i in numba.prange(n):
+            tile(0, np.uint64(i), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
+                 mu_max, planes, ptable, cost, colour_of)
+        for t in numba.prange(n_tiles):
+            tile(1, np.uint64(t), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
+                 mu_max, planes, ptable, cost, colour_of)
+        deal_tiles(colour_of, threads, cost, order, starts)
+        for colour in range(COLOURS):
+            base = colour * (threads + 1)
+            for t in numba.prange(threads):
+                for k in range(starts[base + t], starts[base + t + 1]):
+                    tile(2, np.uint64(order[k]), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr,
+                         ace, drho, xsph, mu_max, planes, ptable, cost, colour_of)
+
+    digest = hashlib.sha1(str(tile._uuid).encode()).hexdigest()[:16]
+    run.__qualname__ = f"mutual_sweep_{digest}"
+    return numba.njit(parallel=True, cache=True, fastmath=FASTMATH, _nrt=False)(run)
+
+
+class MutualRates:
+    """The CPU's ``rates`` a pair at a time (`shoal.physics.mutual`): ``rates(n, args)`` with the
+    arguments of the per-particle rates, each pair evaluated once and its terms added to both
+    particles, the grid's tiles swept colour by colour (`shoal.neighbours.half_sweep`). Holds the
+    tiles' work arrays (a few numbers a tile, allocated when the grid or the thread count changes)."""
+
+    def __init__(self, tile, spec):
+        self.kernel = shared_loop(tile, _build_mutual_sweep)
+        self.tile_count = tile_counter(spec)
+        self._key = None
+
+    def __getattr__(self, name):
+        # the compiled kernel's attributes (``signatures``, empty before its first call: `CPUBackend.timed`;
+        # ``py_func``, whose name is the kernel's on-disk cache name)
+        if name == "kernel":
+            raise AttributeError(name)
+        return getattr(self.kernel, name)
+
+    def __call__(self, n, args):
+        threads = numba.get_num_threads()
+        dims = tuple(int(d) for d in args[8][:3])
+        if self._key != (dims, threads):
+            self._key = (dims, threads)
+            n_tiles = self.tile_count(dims)
+            self._cost = np.zeros(n_tiles + threads)
+            self._colour = np.zeros(n_tiles, np.int64)
+            self._order = np.zeros(3 * n_tiles + threads, np.int64)
+            self._starts = np.zeros(COLOURS * (threads + 1), np.int64)
+        self.kernel(n, args, threads, self._cost, self._colour, self._order, self._starts)
 
 
 @numba.njit(parallel=True, cache=True)
@@ -171,6 +229,11 @@ class CPUBackend:
     def __init__(self, spec):
         self.spec = spec
         attach_loops(self, cpu_jit, make_for_each, spec, "cpu")
+        #: the rates particle by particle, as every backend has them; ``rates`` is `MutualRates` where the
+        #: scheme allows (`shoal.physics.mutual`)
+        self.rates_by_particle = self.rates
+        if self.physics.mutual_tile is not None:
+            self.rates = MutualRates(self.physics.mutual_tile, spec)
         self.compile_seconds = 0.0
 
     @staticmethod

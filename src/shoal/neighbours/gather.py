@@ -200,12 +200,11 @@ def _everyone(jit):
     return everyone
 
 
-def _make_row_ranges(jit, spec, reach2):
-    """Return ``(row_ranges, n_rows)`` (CPU): ``row_ranges(c, ux, uy, uz, cell_start, gdims, rows)`` writes
-    the particles [start, stop) of each of the n_rows trimmed stencil rows around cell c, for a point at
-    (ux, uy, uz) in cell units, into ``rows[r]`` and ``rows[ROW_CAP // 2 + r]`` of a `stack.row_buffer`
-    (an empty range where the trimmed row is empty). Found before the rows are walked: computed between
-    two rows' walks, each row's range waited for its square root and its reads of cell_start."""
+def make_row_trim(jit, spec, reach2):
+    """Return ``(trimmed_row, n_rows, side)`` (CPU): ``trimmed_row(r, ix, iy, iz, ux, uy, uz, nx, ny, nz)`` ->
+    (row, x0, x1), the row of cells (y + ny z in 3D, z in 2D) of stencil row r around cell (ix, iy, iz) and
+    its cells x0 .. x1 within the support of a point at (ux, uy, uz) in cell units (with `TRIM_MARGIN`;
+    x0 > x1 where the trimmed row is empty or off the grid); the stencil has n_rows rows, `side` a side."""
     n = spec.cells_per_support
     dim = spec.dim
     side = 2 * n + 1
@@ -215,28 +214,43 @@ def _make_row_ranges(jit, spec, reach2):
                          f"at most {ROW_CAP // 2}")
 
     @jit
-    def row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz):
-        """Particles [start, stop) of stencil row r (empty where the trimmed row is)."""
+    def trimmed_row(r, ix, iy, iz, ux, uy, uz, nx, ny, nz):
         if dim == 3:
             z = iz - n + r // side
             y = iy - n + r % side
         else:
             z = iz - n + r
             y = 0
+        row = y + ny * z if dim == 3 else z
         if z < 0 or z >= nz or y < 0 or y >= ny:
-            return 0, 0
+            return row, 1, 0
         ez = max(0.0, max(z - uz, uz - (z + 1)))
         ey = max(0.0, max(y - uy, uy - (y + 1))) if dim == 3 else 0.0
         e2 = reach2 - ey * ey - ez * ez
         if e2 <= 0.0:
-            return 0, 0
+            return row, 1, 0
         e = e2 ** 0.5
-        x0 = max(int(ux - e), ix - n, 0)
-        x1 = min(int(ux + e), ix + n, nx - 1)
+        return row, max(int(ux - e), ix - n, 0), min(int(ux + e), ix + n, nx - 1)
+
+    return trimmed_row, n_rows, side
+
+
+def _make_row_ranges(jit, spec, reach2):
+    """Return ``(row_ranges, n_rows)`` (CPU): ``row_ranges(c, ux, uy, uz, cell_start, gdims, rows)`` writes
+    the particles [start, stop) of each of the n_rows trimmed stencil rows around cell c, for a point at
+    (ux, uy, uz) in cell units, into ``rows[r]`` and ``rows[ROW_CAP // 2 + r]`` of a `stack.row_buffer`
+    (an empty range where the trimmed row is empty). Found before the rows are walked: computed between
+    two rows' walks, each row's range waited for its square root and its reads of cell_start."""
+    dim = spec.dim
+    trimmed_row, n_rows, _ = make_row_trim(jit, spec, reach2)
+
+    @jit
+    def row_range(r, ix, iy, iz, ux, uy, uz, cell_start, nx, ny, nz):
+        """Particles [start, stop) of stencil row r (empty where the trimmed row is)."""
+        row, x0, x1 = trimmed_row(r, ix, iy, iz, ux, uy, uz, nx, ny, nz)
         if x0 > x1:
             return 0, 0
-        row = nx * (y + ny * z)
-        return cell_start[row + x0], cell_start[row + x1 + 1]
+        return cell_start[nx * row + x0], cell_start[nx * row + x1 + 1]
 
     @jit
     def row_ranges(c, ux, uy, uz, cell_start, gdims, rows):
@@ -290,16 +304,96 @@ def _make_rows_first_gather(jit, spec, pair, reach2, only, screen):
     return gather
 
 
+def make_compaction(jit, spec, only):
+    """Return ``(split_own, fill, difference)``, the pieces of a compacted gather (CPU) on the split
+    float32 coordinates (see `make_gather`, ``compact``), shared by the compact gather and the half
+    stencil of `shoal.neighbours.half_sweep`.
+
+    ``split_own(i, spos, gdims, P)`` -> (coarse2, own): the compaction's support squared, widened by the
+    high parts' rounding (at most 2^-24 L a coordinate, L the grid's extent, so that it keeps every
+    neighbour within 2h), and i's high and low parts (xs, ys, zs, xl, yl, zl).
+    ``fill(buf, rows, n_rows, r, s0, stop, ui, own, coarse2, spos, everyone, data)`` -> (k, r, s0, stop):
+    walks the candidates of the rows' ranges (``rows[r]`` .. ``rows[ROW_CAP // 2 + r]``, from candidate s0
+    of row r, which ends at stop) without a branch, writing each index to ``buf[k]`` and advancing k for
+    those within coarse2, other than i (``ui``), for which `everyone` or ``only(j, data)`` holds, until the
+    buffer is full or the rows are done; returns where it stopped.
+    ``difference(j, own, xi, yi, zi, pos, spos, P)`` -> (dx, dy, dz, r2, keep): r_i - r_j in the working
+    precision and whether it lies within 2h: in float32 the sum of the high and the low parts'
+    differences (the float64 difference rounded to float32: two nearby coordinates of like magnitude have
+    an exact high difference), in float64 from the positions.
+    """
+    dim = spec.dim
+    F = spec.float_type
+    zero = F(0.0)
+    f32 = F == np.float32
+
+    @jit
+    def split_own(i, spos, gdims, P):
+        nx, ny, nz = gdims
+        extent = max(nx, ny, nz) / P.inv_cs
+        reach = 2.0 * P.h + extent * 2.0 ** -21
+        coarse2 = np.float32(reach * reach * (1.0 + 2.0 ** -20))
+        xs = spos[0, i]
+        zs = spos[dim - 1, i]
+        ys = spos[1, i] if dim == 3 else np.float32(0.0)
+        xl = spos[dim, i]
+        zl = spos[2 * dim - 1, i]
+        yl = spos[dim + 1, i] if dim == 3 else np.float32(0.0)
+        return coarse2, (xs, ys, zs, xl, yl, zl)
+
+    @jit
+    def fill(buf, rows, n_rows, r, s0, stop, ui, own, coarse2, spos, everyone, data):
+        xs, ys, zs = own[0], own[1], own[2]
+        k = 0
+        while r < n_rows:
+            room = ROW_CAP - k
+            if stop - s0 > room and k > 0:
+                break
+            s1 = min(s0 + room, stop)
+            # unsigned indices: Numba adds no negative-index wraparound to their loads and stores
+            for j in range(np.uint64(s0), np.uint64(s1)):
+                ex = xs - spos[0, j]
+                ez = zs - spos[dim - 1, j]
+                ey = ys - spos[1, j] if dim == 3 else np.float32(0.0)
+                buf[np.uint64(k)] = j
+                k += (ex * ex + ey * ey + ez * ez < coarse2) & (j != ui) & (everyone | only(j, data))
+            s0 = s1
+            if s0 >= stop:
+                r += 1
+                if r < n_rows:
+                    s0, stop = rows[r], rows[ROW_CAP // 2 + r]
+        return k, r, s0, stop
+
+    @jit
+    def difference(j, own, xi, yi, zi, pos, spos, P):
+        if f32:
+            xs, ys, zs, xl, yl, zl = own
+            dx = (xs - spos[0, j]) + (xl - spos[dim, j])
+            dz = (zs - spos[dim - 1, j]) + (zl - spos[2 * dim - 1, j])
+            dy = (ys - spos[1, j]) + (yl - spos[dim + 1, j]) if dim == 3 else zero
+            r2 = dx * dx + dy * dy + dz * dz
+            return dx, dy, dz, r2, r2 < P.supp2
+        ex = xi - pos[j, 0]
+        ez = zi - pos[j, dim - 1]
+        ey = yi - pos[j, 1] if dim == 3 else 0.0
+        keep = ex * ex + ey * ey + ez * ez < np.float64(P.supp2)
+        dx = F(ex)
+        dy = F(ey)
+        dz = F(ez)
+        return dx, dy, dz, dx * dx + dy * dy + dz * dz, keep
+
+    return split_own, fill, difference
+
+
 def _make_compact_gather(jit, spec, pair, reach2, terms):
     """`make_gather` with compact=True (CPU): the rows' candidates compacted into a buffer, their
     pairs evaluated by a vectorised loop into a term buffer, the terms then summed in order."""
     dim = spec.dim
-    F = spec.float_type
-    zero = F(0.0)
-    one = F(1.0)
+    one = spec.float_type(1.0)
     init, put, fold = terms
-    f32 = F == np.float32
+    f32 = spec.float_type == np.float32
     row_ranges, n_rows = _make_row_ranges(jit, spec, reach2)
+    split_own, fill, difference = make_compaction(jit, spec, _everyone(jit))
 
     @jit
     def gather(i, own, acc, pos, spos, cell, cell_start, gdims, data, P):
@@ -312,20 +406,7 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         xi = pos[i, 0]
         zi = pos[i, dim - 1]
         yi = pos[i, 1] if dim == 3 else 0.0
-        supp2d = np.float64(P.supp2)
-        # the compaction's test, on the high parts of the split coordinates: within the support widened
-        # by their rounding (at most 2^-24 L a coordinate, L the grid's extent), so that it keeps every
-        # neighbour within 2h
-        nx, ny, nz = gdims
-        extent = max(nx, ny, nz) / P.inv_cs
-        reach = 2.0 * P.h + extent * 2.0 ** -21
-        coarse2 = np.float32(reach * reach * (1.0 + 2.0 ** -20))
-        xs = spos[0, i]
-        zs = spos[dim - 1, i]
-        ys = spos[1, i] if dim == 3 else np.float32(0.0)
-        xl = spos[dim, i]
-        zl = spos[2 * dim - 1, i]
-        yl = spos[dim + 1, i] if dim == 3 else np.float32(0.0)
+        coarse2, split = split_own(i, spos, gdims, P)
         rows = row_buffer()
         row_ranges(cell[i], (xi - P.grid_lo_x) * P.inv_cs, (yi - P.grid_lo_y) * P.inv_cs,
                    (zi - P.grid_lo_z) * P.inv_cs, cell_start, gdims, rows)
@@ -334,45 +415,11 @@ def _make_compact_gather(jit, spec, pair, reach2, terms):
         while r < n_rows:
             # fill the buffer with the candidates of as many rows as it holds, keeping those within
             # the support (a branch-free compaction), ...
-            k = 0
-            while r < n_rows:
-                room = ROW_CAP - k
-                if stop - s0 > room and k > 0:
-                    break
-                s1 = min(s0 + room, stop)
-                # unsigned indices: Numba adds no negative-index wraparound to their loads and stores
-                for j in range(np.uint64(s0), np.uint64(s1)):
-                    ex = xs - spos[0, j]
-                    ez = zs - spos[dim - 1, j]
-                    ey = ys - spos[1, j] if dim == 3 else np.float32(0.0)
-                    buf[np.uint64(k)] = j
-                    k += (ex * ex + ey * ey + ez * ez < coarse2) & (j != ui)
-                s0 = s1
-                if s0 >= stop:
-                    r += 1
-                    if r < n_rows:
-                        s0, stop = rows[r], rows[ROW_CAP // 2 + r]
+            k, r, s0, stop = fill(buf, rows, n_rows, r, s0, stop, ui, split, coarse2, spos, True, data)
             # ... then evaluate its pairs, which are independent (LLVM vectorises this loop), ...
             for m in range(np.uint64(k)):
                 j = np.uint64(buf[m])
-                if f32:
-                    # r_i - r_j from the split coordinates: the high parts' difference is exact (two
-                    # nearby values of like magnitude), the low parts' adds the rest, and the sum is the
-                    # float64 difference rounded to float32, without reading the float64 positions again
-                    dx = (xs - spos[0, j]) + (xl - spos[dim, j])
-                    dz = (zs - spos[dim - 1, j]) + (zl - spos[2 * dim - 1, j])
-                    dy = (ys - spos[1, j]) + (yl - spos[dim + 1, j]) if dim == 3 else zero
-                    r2 = dx * dx + dy * dy + dz * dz
-                    keep = r2 < P.supp2
-                else:
-                    ex = xi - pos[j, 0]
-                    ez = zi - pos[j, dim - 1]
-                    ey = yi - pos[j, 1] if dim == 3 else 0.0
-                    keep = ex * ex + ey * ey + ez * ez < supp2d
-                    dx = F(ex)
-                    dy = F(ey)
-                    dz = F(ez)
-                    r2 = dx * dx + dy * dy + dz * dz
+                dx, dy, dz, r2, keep = difference(j, split, xi, yi, zi, pos, spos, P)
                 # the support test in the working precision: a candidate the widened test kept beyond
                 # it stores the zero terms of `init`, which add nothing
                 t = pair(init, own, j, dx, dy, dz, r2, one, data, P)

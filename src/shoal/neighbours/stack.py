@@ -43,22 +43,22 @@ TERMS = 8
 """Rows of a term buffer: the most values one pair contributes (the rates' accumulator)."""
 
 
-def _make_term_buffer(dtype, name):
-    """An intrinsic returning a (TERMS, ROW_CAP) C-ordered array of `dtype` on the stack, with the
-    fixed cache name `name` (see `row_buffer`)."""
+def make_term_buffer(dtype, name, rows=TERMS):
+    """An intrinsic returning a (rows, ROW_CAP) C-ordered array of `dtype` (a Numba type) on the stack,
+    with the fixed cache name `name` (see `row_buffer`; each distinct buffer needs its own name)."""
     arrty = types.Array(dtype, 2, "C")
 
     @intrinsic
     def term_buffer(typingctx):
         def codegen(context, builder, sig, args):
             llty = context.get_data_type(dtype)
-            n = context.get_constant(types.intp, TERMS * ROW_CAP)
+            n = context.get_constant(types.intp, rows * ROW_CAP)
             data = cgutils.alloca_once(builder, llty, size=n)
             ary = context.make_array(arrty)(context, builder)
             size = context.get_abi_sizeof(llty)
             itemsize = context.get_constant(types.intp, size)
             context.populate_array(ary, data=data,
-                                   shape=[context.get_constant(types.intp, TERMS),
+                                   shape=[context.get_constant(types.intp, rows),
                                           context.get_constant(types.intp, ROW_CAP)],
                                    strides=[context.get_constant(types.intp, size * ROW_CAP), itemsize],
                                    itemsize=itemsize, meminfo=None)
@@ -70,5 +70,12 @@ def _make_term_buffer(dtype, name):
     return term_buffer
 
 
-term_buffer_f32 = _make_term_buffer(types.float32, "shoal.neighbours.stack.term_buffer_f32")
-term_buffer_f64 = _make_term_buffer(types.float64, "shoal.neighbours.stack.term_buffer_f64")
+term_buffer_f32 = make_term_buffer(types.float32, "shoal.neighbours.stack.term_buffer_f32")
+term_buffer_f64 = make_term_buffer(types.float64, "shoal.neighbours.stack.term_buffer_f64")
+
+TERMS_BOTH = 9
+"""Rows of a term buffer of `half_sweep`: the most values one pair contributes to both its particles
+(`shoal.physics.mutual`)."""
+
+both_buffer_f32 = make_term_buffer(types.float32, "shoal.neighbours.stack.both_buffer_f32", TERMS_BOTH)
+both_buffer_f64 = make_term_buffer(types.float64, "shoal.neighbours.stack.both_buffer_f64", TERMS_BOTH)

@@ -11,6 +11,7 @@ loop calls them) or ``numba.cuda.jit(device=True)`` for the CUDA backend
 from types import SimpleNamespace
 
 from ..neighbours.gather import make_gather, make_point_gather
+from ..neighbours.half_sweep import make_half_gather
 from .density_diffusion import make_density_diffusion
 from .eos import make_eos
 from .contact import make_contact
@@ -27,6 +28,7 @@ from .turbulence import make_sps
 from .no_slip import make_wall_velocity
 from .wall_pressure import make_wall_pressure
 from .mdbc import make_mdbc
+from .mutual import make_particle_mutual, mutual_supported
 from .viscosity import make_viscosity
 
 __all__ = ["build_physics", "SchemeSpec", "Params", "make_params", "FLUID", "FIXED", "MOVING"]
@@ -41,7 +43,8 @@ def build_physics(jit, spec, target="cpu"):
 
     Returns a namespace with ``pressure``, ``particle_pr2``, ``particle_rates``, ``shepard``,
     ``mls``, ``w`` and ``grad_factor`` (and the other per-particle functions of the loops, the
-    decorator ``named_jit`` and ``unpack``).
+    decorator ``named_jit`` and ``unpack``); ``mutual_tile``, the CPU's rates a pair at a time
+    (`shoal.physics.mutual`), where the target is the CPU and the scheme allows, else None.
     """
     j = named(jit, target)
     unpack = make_unpack(j)
@@ -63,12 +66,17 @@ def build_physics(jit, spec, target="cpu"):
     probe = make_probe(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     sensor_moments = make_sensor_moments(j, spec, (w, grad_factor), pressure, make_point_gather, unpack)
     wet_walls, free_surface, surface_normal = make_free_surface(j, spec, (w, grad_factor), make_gather, unpack)
+    # the CPU's rates a pair at a time, where the scheme's pair terms allow (`shoal.physics.mutual`)
+    mutual_tile = None
+    if target == "cpu" and mutual_supported(spec):
+        mutual_tile, _ = make_particle_mutual(j, spec, (w, grad_factor), viscous, diffusion, make_half_gather, unpack,
+                                              plane_accel)
     return SimpleNamespace(w=w, grad_factor=grad_factor, pressure=pressure,
                            particle_pr2=particle_pr2, particle_rates=particle_rates, shepard=shepard, mls=mls,
                            particle_sps=particle_sps, particle_wall_velocity=particle_wall_velocity,
                            particle_wall_pressure=particle_wall_pressure, particle_mdbc=particle_mdbc,
                            particle_wall_force=particle_wall_force, particle_contact=particle_contact,
                            probe=probe, sensor_moments=sensor_moments, free_surface=free_surface, wet_walls=wet_walls,
-                           surface_normal=surface_normal,
+                           surface_normal=surface_normal, mutual_tile=mutual_tile,
                            named_jit=j,
                            unpack=unpack)

@@ -1,0 +1,253 @@
+"""The rates of one pair for both of its particles at once (Newton's third law), for the CPU's pair sweep.
+
+The pair terms of `shoal.physics.rates` are symmetric or antisymmetric in the pair. With
+r_ij = r_i - r_j, v_ij = v_i - v_j, grad_i W_ij = F(r) r_ij (F = `grad_factor`, so
+grad_j W_ji = -grad_i W_ij) and the masses m_i, m_j of the two particles' kinds, one evaluation of
+the pair gives both particles' terms:
+
+    a_i += -m_j V,    a_j += +m_i V,    V = (p_i/rho_i^2 + p_j/rho_j^2 + R_ij + b Pi_ij) F r_ij - b l_ij v_ij
+    drho_i += m_j v_ij . r_ij F + D_ij,    drho_j += m_i v_ij . r_ij F + D_ji
+    xsph_i -= eps m_j W_ij v_ij / rho_ij,  xsph_j += eps m_i W_ij v_ij / rho_ij  (fluid pairs)
+
+where R_ij is the tensile correction, Pi_ij the artificial viscosity (symmetric: v_ij . r_ij and
+rho_i + rho_j are), l_ij = lam_ij / m_j the laminar coefficient per unit mass, b = 1 between fluid
+particles and `visc_bound` against a wall, and D the density diffusion between fluid particles,
+which is not symmetric (D_ji is `density_diffusion` with the roles swapped: its density difference
+and 1/rho change sides). The time-step term |h v_ij . r_ij / (r_ij^2 + eta^2)| is the same for
+both. A wall particle receives no acceleration; with DBC it integrates continuity with its fluid
+neighbours (`rates`' ``bound_pair``: the same m_fluid v_ij . r_ij F), otherwise nothing; wall-wall
+pairs are not evaluated. These are the terms `rates` sums particle by particle (the CUDA backend
+and the CPU's other schemes), summed here in another order: the results agree to round-off
+(`tests/test_mutual_rates.py`).
+
+Each pair is then evaluated once instead of twice: on the CPU, the DualSPHysics 3D dam break's rate
+evaluation took 0.67 of the time of the per-particle gather (one thread, `benchmarks/results/issue34/
+mutual_pairs/`). The schemes this covers are those whose pair terms have the form above
+(`mutual_supported`); Riemann pairs, SPS stress, no-slip wall velocities, repulsive particles,
+periodic axes and symmetry planes keep the per-particle gather.
+"""
+
+import numpy as np
+
+from ..neighbours.half_sweep import WALL_WEIGHT, make_tiles
+from .rates import make_store, make_tensile
+from .reciprocals import make_reciprocals
+from .spec import FLUID
+
+
+def mutual_supported(spec):
+    """Whether the CPU may evaluate `spec`'s rates a pair at a time (see the module docstring)."""
+    return not (spec.riemann or spec.sps or spec.no_slip or spec.repulsive or spec.periodic or spec.symmetry)
+
+
+def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
+    """Return ``(mutual_pair, init)``.
+
+    ``mutual_pair(own, j, dx, dy, dz, r2, data, P)`` -> the pair's terms (Vx, Vy, Vz, dri, drj, mu, Xx,
+    Xy, Xz): V as in the module docstring (a_i += -m_j fl_i V, a_j += m_i fl_j V), the two density
+    rates (zero for a wall particle that does not integrate continuity), the time-step term, and the
+    XSPH vector 2 W_ij v_ij / (rho_i + rho_j) between fluid particles (xsph_i -= eps m_j X,
+    xsph_j += eps m_i X). ``own`` = (v_ix, v_iy, v_iz, rho_i, 1/rho_i, p_i/rho_i^2, tensile coefficient
+    of i, 1 if i is fluid else 0, m_i); ``data`` = (vel, rho, pr2, kind).
+    ``init``: the terms of no pair (zeros).
+    """
+    F = spec.float_type
+    dim = spec.dim
+    zero, one, two = F(0.0), F(1.0), F(2.0)
+    w, grad_factor = kernels
+    tensile_coef, tensile_pair = tensile
+    use_tensile = spec.tensile
+    use_xsph = spec.xsph
+    dbc = spec.wall_pressure == 0
+
+    @jit
+    def mutual_pair(own, j, dx, dy, dz, r2, data, P):
+        vix, viy, viz, rhoi, inv_rhoi, pr2i, ti, fli, mi = own
+        vel, rho, pr2, kind = data
+        # j's values are all read first (see `rates`: a read after a call left reference counting)
+        vjx = vel[j, 0]
+        vjz = vel[j, dim - 1]
+        vjy = vel[j, 1] if dim == 3 else zero
+        rhoj = rho[j]
+        pr2j = pr2[j]
+        flj = one if kind[j] == FLUID else zero
+        ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
+        vdotr = ux * dx + uy * dy + uz * dz
+        r = r2 ** F(0.5)
+        q = r * P.inv_h
+        fr = grad_factor(q, P)
+        both = fli * flj
+        mj = P.mass_b + flj * (P.mass_f - P.mass_b)
+        vb = P.visc_bound + both * (one - P.visc_bound)
+        inv_a, inv_s, inv_rhoj = reciprocals(r2, P.eta2, rhoi, rhoj)
+        prs = pr2i + pr2j
+        if use_tensile:
+            prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
+        pi_ij, lam = viscous(vdotr, r2, fr, one, inv_a, inv_s, P)
+        g = (prs + vb * pi_ij) * fr
+        lam *= vb
+        cont = vdotr * fr
+        # density: continuity for both, diffusion between fluid particles; a wall particle integrates
+        # continuity only under DBC
+        dri = mj * cont + both * diffusion(rhoi, rhoj, inv_rhoj, dx, dy, dz, fr, mj, P)
+        drj = mi * cont + both * diffusion(rhoj, rhoi, inv_rhoi, -dx, -dy, -dz, fr, mi, P)
+        if not dbc:
+            dri *= fli
+            drj *= flj
+        mu = abs(P.h * vdotr * inv_a)
+        if use_xsph:
+            c = two * both * w(q, P) * inv_s
+            return g * dx - lam * ux, g * dy - lam * uy, g * dz - lam * uz, dri, drj, mu, c * ux, c * uy, c * uz
+        return g * dx - lam * ux, g * dy - lam * uy, g * dz - lam * uz, dri, drj, mu, zero, zero, zero
+
+    init = (zero, zero, zero, zero, zero, zero, zero, zero, zero)
+    return mutual_pair, init
+
+
+def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gather, unpack, plane_accel=None):
+    """Return ``(mutual_tile, particle_mutual)``, the CPU's rates a pair at a time (`mutual_supported`).
+
+    ``mutual_tile(mode, t, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
+    mu_max, planes, ptable, cost, colour_of)`` is what the CPU's sweep calls (`shoal.backends.cpu`), t a
+    particle or a tile of `shoal.neighbours.half_sweep`: mode 0 starts particle t's sums
+    (``mutual_init``); mode 1 weighs tile t into ``cost[t]`` (`half_sweep.WALL_WEIGHT`) and writes its
+    colour into ``colour_of[t]``; mode 2 sweeps tile t (``particle_mutual`` for each of its particles, in
+    cell order).
+
+    ``mutual_init(i, kind, ace, drho, xsph, mu_max, Parr)`` starts particle i's sums: gravity for a
+    fluid particle's acceleration, zero otherwise. ``particle_mutual(i, pos, spos, vel, rho, pr2, kind,
+    cell, cell_start, gdims, Parr, ace, drho, xsph, mu_max, planes, ptable)`` then evaluates the pairs
+    of i's half stencil (`shoal.neighbours.half_sweep`), adds their terms to i's sums and to its
+    neighbours', and, for a fluid particle, the wall planes' force; the arguments are those of
+    `rates`' ``particle_rates`` (`gdims` a tuple). After every particle has been swept (never two
+    that write to the same particles at once: `half_sweep`), ace, drho, xsph and mu_max hold what
+    ``particle_rates`` writes.
+    """
+    F = spec.float_type
+    dim = spec.dim
+    zero, one = F(0.0), F(1.0)
+    use_xsph = spec.xsph
+    use_planes = spec.planes
+    w, grad_factor = kernels
+    reciprocals = make_reciprocals(jit, spec)
+    tensile = make_tensile(jit, spec, w)
+    tensile_coef = tensile[0]
+    mutual_pair, init = make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile)
+    store = make_store(jit, spec)
+
+    @jit
+    def add_to(out, i, c, x, y, z):
+        # out[i] += c (x, y, z) in the stored components ((x, z) in 2D)
+        out[i, 0] += c * x
+        if dim == 3:
+            out[i, 1] += c * y
+            out[i, 2] += c * z
+        else:
+            out[i, 1] += c * z
+
+    @jit
+    def put(T, m, t):
+        T[0, m] = t[0]
+        T[1, m] = t[1]
+        T[2, m] = t[2]
+        T[3, m] = t[3]
+        T[4, m] = t[4]
+        T[5, m] = t[5]
+        if use_xsph:
+            T[6, m] = t[6]
+            T[7, m] = t[7]
+            T[8, m] = t[8]
+
+    @jit
+    def fold(acc, own, T, m, j, data, out, P):
+        ax, ay, az, dr, vm, xx, xy, xz = acc
+        fli, mi = own[7], own[8]
+        kind = data[3]
+        ace, drho, xsph, mu_max = out
+        flj = one if kind[j] == FLUID else zero
+        ci = fli * (P.mass_b + flj * (P.mass_f - P.mass_b))
+        cj = flj * mi
+        vx, vy, vz, mu = T[0, m], T[1, m], T[2, m], T[5, m]
+        add_to(ace, j, cj, vx, vy, vz)
+        drho[j] += T[4, m]
+        mu_max[j] = max(mu_max[j], flj * mu)
+        if use_xsph:
+            add_to(xsph, j, P.xsph_eps * cj, T[6, m], T[7, m], T[8, m])
+            xx -= ci * T[6, m]
+            xy -= ci * T[7, m]
+            xz -= ci * T[8, m]
+        return ax - ci * vx, ay - ci * vy, az - ci * vz, dr + T[3, m], max(vm, mu), xx, xy, xz
+
+    @jit
+    def fluid_only(j, data):
+        return data[3][j] == FLUID
+
+    # a wall particle's pairs are with fluid particles only (most of its candidates are walls)
+    gather = make_half_gather(jit, spec, mutual_pair, (init, put, fold), fluid_only)
+
+    @jit
+    def mutual_init(i, kind, ace, drho, xsph, mu_max, Parr):
+        P = unpack(Parr)
+        store(ace, i, one if kind[i] == FLUID else zero, P.gx, P.gy, P.gz)
+        drho[i] = zero
+        mu_max[i] = zero
+        if use_xsph:
+            store(xsph, i, zero, zero, zero, zero)
+
+    @jit
+    def particle_mutual(i, pos, spos, vel, rho, pr2, kind, cell, cell_start, gdims, Parr, ace, drho, xsph, mu_max,
+                        planes, ptable):
+        P = unpack(Parr)
+        vix = vel[i, 0]
+        viz = vel[i, dim - 1]
+        viy = vel[i, 1] if dim == 3 else zero
+        rhoi = rho[i]
+        pr2i = pr2[i]
+        is_fluid = kind[i] == FLUID
+        fli = one if is_fluid else zero
+        mi = P.mass_f if is_fluid else P.mass_b
+        own = (vix, viy, viz, rhoi, one / rhoi, pr2i, tensile_coef(pr2i), fli, mi)
+        data = (vel, rho, pr2, kind)
+        out = (ace, drho, xsph, mu_max)
+        acc = (zero, zero, zero, zero, zero, zero, zero, zero)
+        ax, ay, az, dr, vm, xx, xy, xz = gather(i, own, acc, is_fluid, pos, spos, cell, cell_start, gdims, data,
+                                                out, P)
+        if is_fluid and use_planes:
+            qx, qy, qz = plane_accel(pos[i, 0], pos[i, 1] if dim == 3 else 0.0, pos[i, dim - 1], vix, viy, viz,
+                                     rhoi, planes, ptable, P)
+            ax += qx
+            ay += qy
+            az += qz
+        add_to(ace, i, fli, ax, ay, az)
+        drho[i] += dr
+        mu_max[i] = max(mu_max[i], fli * vm)
+        if use_xsph:
+            add_to(xsph, i, P.xsph_eps * fli, xx, xy, xz)
+
+    tile_cells = make_tiles(jit, spec)
+    wall_weight = WALL_WEIGHT
+
+    @jit
+    def mutual_tile(mode, t, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
+                    mu_max, planes, ptable, cost, colour_of):
+        gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
+        if mode == 0:
+            mutual_init(t, kind, ace, drho, xsph, mu_max, Parr)
+            return
+        nx, ny = gdims[0], gdims[1]
+        x0, x1, z0, z1, colour = tile_cells(t, gdims)
+        c = 0.0
+        for z in range(z0, z1):
+            for y in range(ny if dim == 3 else 1):
+                row = nx * (y + ny * z) if dim == 3 else nx * z
+                for i in range(cell_start[row + x0], cell_start[row + x1]):
+                    if mode == 1:
+                        c += 1.0 if kind[i] == FLUID else wall_weight
+                    else:
+                        particle_mutual(np.uint64(i), pos, spos, vel, rho, pr2, kind, cell, cell_start, gdims, Parr,
+                                        ace, drho, xsph, mu_max, planes, ptable)
+        if mode == 1:
+            cost[t] = c
+            colour_of[t] = colour
+
+    return mutual_tile, particle_mutual
