@@ -91,17 +91,17 @@ def _build_mutual_sweep(tile):
         n_tiles = colour_of.shape[0]
         for i in numba.prange(n):
             tile(0, np.uint64(i), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-                 mu_max, planes, ptable, cost, colour_of)
+                 mu_max, planes, ptable, tau, vwall, cost, colour_of)
         for t in numba.prange(n_tiles):
             tile(1, np.uint64(t), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-                 mu_max, planes, ptable, cost, colour_of)
+                 mu_max, planes, ptable, tau, vwall, cost, colour_of)
         deal_tiles(colour_of, threads, cost, order, starts)
         for colour in range(COLOURS):
             base = colour * (threads + 1)
             for t in numba.prange(threads):
                 for k in range(starts[base + t], starts[base + t + 1]):
                     tile(2, np.uint64(order[k]), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr,
-                         ace, drho, xsph, mu_max, planes, ptable, cost, colour_of)
+                         ace, drho, xsph, mu_max, planes, ptable, tau, vwall, cost, colour_of)
 
     digest = hashlib.sha1(str(tile._uuid).encode()).hexdigest()[:16]
     run.__qualname__ = f"mutual_sweep_{digest}"

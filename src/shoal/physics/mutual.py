@@ -20,11 +20,12 @@ pairs are not evaluated. These are the terms `rates` sums particle by particle (
 and the CPU's other schemes), summed here in another order: the results agree to round-off
 (`tests/test_mutual_rates.py`).
 
-Each pair is then evaluated once instead of twice: on the CPU, the DualSPHysics 3D dam break's rate
-evaluation took 0.67 of the time of the per-particle gather (one thread, `benchmarks/results/issue34/
-mutual_pairs/`). The schemes this covers are those whose pair terms have the form above
-(`mutual_supported`); Riemann pairs, SPS stress, no-slip wall velocities, repulsive particles,
-periodic axes and symmetry planes keep the per-particle gather.
+Each pair is then evaluated once instead of twice (measured in `benchmarks/results/issue34/mutual_pairs/`).
+The schemes this covers are those whose pair terms have the form above
+(`mutual_supported`), with SPS's stress term (antisymmetric as the pressure's, between fluid particles)
+and no-slip walls (a wall particle's no-slip velocity in place of its own in the viscous term, on
+either side of the pair); Riemann pairs, repulsive particles, periodic axes and symmetry planes keep the
+per-particle gather.
 """
 
 import numpy as np
@@ -37,7 +38,7 @@ from .spec import FLUID
 
 def mutual_supported(spec):
     """Whether the CPU may evaluate `spec`'s rates a pair at a time (see the module docstring)."""
-    return not (spec.riemann or spec.sps or spec.no_slip or spec.repulsive or spec.periodic or spec.symmetry)
+    return not (spec.riemann or spec.repulsive or spec.periodic or spec.symmetry)
 
 
 def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
@@ -48,7 +49,8 @@ def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
     rates (zero for a wall particle that does not integrate continuity), the time-step term, and the
     XSPH vector 2 W_ij v_ij / (rho_i + rho_j) between fluid particles (xsph_i -= eps m_j X,
     xsph_j += eps m_i X). ``own`` = (v_ix, v_iy, v_iz, rho_i, 1/rho_i, p_i/rho_i^2, tensile coefficient
-    of i, 1 if i is fluid else 0, m_i); ``data`` = (vel, rho, pr2, kind).
+    of i, 1 if i is fluid else 0, m_i, i's velocity in the viscous term (3), tau_i / rho_i^2 (6, or 3 in
+    2D, then zeros)); ``data`` = (vel, rho, pr2, kind, tau, vwall).
     ``init``: the terms of no pair (zeros).
     """
     F = spec.float_type
@@ -58,21 +60,39 @@ def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
     tensile_coef, tensile_pair = tensile
     use_tensile = spec.tensile
     use_xsph = spec.xsph
+    use_sps = spec.sps
+    no_slip = spec.no_slip
     dbc = spec.wall_pressure == 0
 
     @jit
     def mutual_pair(own, j, dx, dy, dz, r2, data, P):
-        vix, viy, viz, rhoi, inv_rhoi, pr2i, ti, fli, mi = own
-        vel, rho, pr2, kind = data
+        vix, viy, viz, rhoi, inv_rhoi, pr2i, ti, fli, mi, wix, wiy, wiz, t0, t1, t2, t3, t4, t5 = own
+        vel, rho, pr2, kind, tau, vwall = data
         # j's values are all read first (see `rates`: a read after a call left reference counting)
         vjx = vel[j, 0]
         vjz = vel[j, dim - 1]
         vjy = vel[j, 1] if dim == 3 else zero
         rhoj = rho[j]
         pr2j = pr2[j]
-        flj = one if kind[j] == FLUID else zero
+        is_fluid = kind[j] == FLUID
+        flj = one if is_fluid else zero
+        if use_sps:
+            # tau_i/rho_i^2 + tau_j/rho_j^2 (a wall particle's is zero; the term is between fluid particles)
+            if dim == 3:
+                sxx, sxy, sxz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
+                syy, syz, szz = t3 + tau[j, 3], t4 + tau[j, 4], t5 + tau[j, 5]
+            else:
+                sxx, sxz, szz = t0 + tau[j, 0], t1 + tau[j, 1], t2 + tau[j, 2]
         ux, uy, uz = vix - vjx, viy - vjy, viz - vjz
         vdotr = ux * dx + uy * dy + uz * dz
+        # the viscous term's velocity difference: a wall particle's no-slip velocity in place of its own
+        wx, wy, wz, vdotr_v = ux, uy, uz, vdotr
+        if no_slip:
+            wjx = vjx if is_fluid else vwall[j, 0]
+            wjz = vjz if is_fluid else vwall[j, dim - 1]
+            wjy = (vjy if is_fluid else vwall[j, 1]) if dim == 3 else zero
+            wx, wy, wz = wix - wjx, wiy - wjy, wiz - wjz
+            vdotr_v = wx * dx + wy * dy + wz * dz
         r = r2 ** F(0.5)
         q = r * P.inv_h
         fr = grad_factor(q, P)
@@ -83,9 +103,20 @@ def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
         prs = pr2i + pr2j
         if use_tensile:
             prs += tensile_pair(q, ti, tensile_coef(pr2j), P)
-        pi_ij, lam = viscous(vdotr, r2, fr, one, inv_a, inv_s, P)
+        pi_ij, lam = viscous(vdotr_v, r2, fr, one, inv_a, inv_s, P)
         g = (prs + vb * pi_ij) * fr
         lam *= vb
+        vx, vy, vz = g * dx - lam * wx, g * dy - lam * wy, g * dz - lam * wz
+        if use_sps:
+            # the stress term m_j (..) . grad_i W_ij between fluid particles, antisymmetric as the pressure's
+            c = both * fr
+            if dim == 3:
+                vx -= c * (sxx * dx + sxy * dy + sxz * dz)
+                vy -= c * (sxy * dx + syy * dy + syz * dz)
+                vz -= c * (sxz * dx + syz * dy + szz * dz)
+            else:
+                vx -= c * (sxx * dx + sxz * dz)
+                vz -= c * (sxz * dx + szz * dz)
         cont = vdotr * fr
         # density: continuity for both, diffusion between fluid particles; a wall particle integrates
         # continuity only under DBC
@@ -97,8 +128,8 @@ def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
         mu = abs(P.h * vdotr * inv_a)
         if use_xsph:
             c = two * both * w(q, P) * inv_s
-            return g * dx - lam * ux, g * dy - lam * uy, g * dz - lam * uz, dri, drj, mu, c * ux, c * uy, c * uz
-        return g * dx - lam * ux, g * dy - lam * uy, g * dz - lam * uz, dri, drj, mu, zero, zero, zero
+            return vx, vy, vz, dri, drj, mu, c * ux, c * uy, c * uz
+        return vx, vy, vz, dri, drj, mu, zero, zero, zero
 
     init = (zero, zero, zero, zero, zero, zero, zero, zero, zero)
     return mutual_pair, init
@@ -108,7 +139,7 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
     """Return ``(mutual_tile, particle_mutual)``, the CPU's rates a pair at a time (`mutual_supported`).
 
     ``mutual_tile(mode, t, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-    mu_max, planes, ptable, cost, colour_of)`` is what the CPU's sweep calls (`shoal.backends.cpu`), t a
+    mu_max, planes, ptable, tau, vwall, cost, colour_of)`` is what the CPU's sweep calls (`shoal.backends.cpu`), t a
     particle or a tile of `shoal.neighbours.half_sweep`: mode 0 starts particle t's sums
     (``mutual_init``); mode 1 weighs tile t into ``cost[t]`` (`half_sweep.WALL_WEIGHT`) and writes its
     colour into ``colour_of[t]``; mode 2 sweeps tile t (``particle_mutual`` for each of its particles, in
@@ -116,7 +147,7 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
 
     ``mutual_init(i, kind, ace, drho, xsph, mu_max, Parr)`` starts particle i's sums: gravity for a
     fluid particle's acceleration, zero otherwise. ``particle_mutual(i, pos, spos, vel, rho, pr2, kind,
-    cell, cell_start, gdims, Parr, ace, drho, xsph, mu_max, planes, ptable)`` then evaluates the pairs
+    cell, cell_start, gdims, Parr, ace, drho, xsph, mu_max, planes, ptable, tau, vwall)`` then evaluates the pairs
     of i's half stencil (`shoal.neighbours.half_sweep`), adds their terms to i's sums and to its
     neighbours', and, for a fluid particle, the wall planes' force; the arguments are those of
     `rates`' ``particle_rates`` (`gdims` a tuple). After every particle has been swept (never two
@@ -128,6 +159,8 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
     zero, one = F(0.0), F(1.0)
     use_xsph = spec.xsph
     use_planes = spec.planes
+    use_sps = spec.sps
+    no_slip = spec.no_slip
     w, grad_factor = kernels
     reciprocals = make_reciprocals(jit, spec)
     tensile = make_tensile(jit, spec, w)
@@ -196,7 +229,7 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
 
     @jit
     def particle_mutual(i, pos, spos, vel, rho, pr2, kind, cell, cell_start, gdims, Parr, ace, drho, xsph, mu_max,
-                        planes, ptable):
+                        planes, ptable, tau, vwall):
         P = unpack(Parr)
         vix = vel[i, 0]
         viz = vel[i, dim - 1]
@@ -206,8 +239,19 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
         is_fluid = kind[i] == FLUID
         fli = one if is_fluid else zero
         mi = P.mass_f if is_fluid else P.mass_b
-        own = (vix, viy, viz, rhoi, one / rhoi, pr2i, tensile_coef(pr2i), fli, mi)
-        data = (vel, rho, pr2, kind)
+        # i's velocity in the viscous term: a wall particle's no-slip velocity
+        wix, wiy, wiz = vix, viy, viz
+        if no_slip and not is_fluid:
+            wix = vwall[i, 0]
+            wiz = vwall[i, dim - 1]
+            wiy = vwall[i, 1] if dim == 3 else zero
+        t0 = t1 = t2 = t3 = t4 = t5 = zero
+        if use_sps:
+            t0, t1, t2 = tau[i, 0], tau[i, 1], tau[i, 2]
+            if dim == 3:
+                t3, t4, t5 = tau[i, 3], tau[i, 4], tau[i, 5]
+        own = (vix, viy, viz, rhoi, one / rhoi, pr2i, tensile_coef(pr2i), fli, mi, wix, wiy, wiz, t0, t1, t2, t3, t4, t5)
+        data = (vel, rho, pr2, kind, tau, vwall)
         out = (ace, drho, xsph, mu_max)
         acc = (zero, zero, zero, zero, zero, zero, zero, zero)
         ax, ay, az, dr, vm, xx, xy, xz = gather(i, own, acc, is_fluid, pos, spos, cell, cell_start, gdims, data,
@@ -229,7 +273,7 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
 
     @jit
     def mutual_tile(mode, t, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-                    mu_max, planes, ptable, cost, colour_of):
+                    mu_max, planes, ptable, tau, vwall, cost, colour_of):
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         if mode == 0:
             mutual_init(t, kind, ace, drho, xsph, mu_max, Parr)
@@ -245,7 +289,7 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
                         c += 1.0 if kind[i] == FLUID else wall_weight
                     else:
                         particle_mutual(np.uint64(i), pos, spos, vel, rho, pr2, kind, cell, cell_start, gdims, Parr,
-                                        ace, drho, xsph, mu_max, planes, ptable)
+                                        ace, drho, xsph, mu_max, planes, ptable, tau, vwall)
         if mode == 1:
             cost[t] = c
             colour_of[t] = colour
