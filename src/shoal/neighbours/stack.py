@@ -73,7 +73,7 @@ def make_term_buffer(dtype, name, rows=TERMS):
 term_buffer_f32 = make_term_buffer(types.float32, "shoal.neighbours.stack.term_buffer_f32")
 term_buffer_f64 = make_term_buffer(types.float64, "shoal.neighbours.stack.term_buffer_f64")
 
-TERMS_BOTH = 9
+TERMS_BOTH = 11
 """Rows of a term buffer of `half_sweep`: the most values one pair contributes to both its particles
 (`shoal.physics.mutual`)."""
 

@@ -128,10 +128,10 @@ def make_mutual(jit, spec, kernels, viscous, diffusion, reciprocals, tensile):
         mu = abs(P.h * vdotr * inv_a)
         if use_xsph:
             c = two * both * w(q, P) * inv_s
-            return vx, vy, vz, dri, drj, mu, c * ux, c * uy, c * uz
-        return vx, vy, vz, dri, drj, mu, zero, zero, zero
+            return vx, vy, vz, dri, drj, mu, fli * mj, flj * mi, c * ux, c * uy, c * uz
+        return vx, vy, vz, dri, drj, mu, fli * mj, flj * mi, zero, zero, zero
 
-    init = (zero, zero, zero, zero, zero, zero, zero, zero, zero)
+    init = (zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero)
     return mutual_pair, init
 
 
@@ -186,29 +186,27 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
         T[3, m] = t[3]
         T[4, m] = t[4]
         T[5, m] = t[5]
+        T[6, m] = t[6]
+        T[7, m] = t[7]
         if use_xsph:
-            T[6, m] = t[6]
-            T[7, m] = t[7]
             T[8, m] = t[8]
+            T[9, m] = t[9]
+            T[10, m] = t[10]
 
     @jit
     def fold(acc, own, T, m, j, data, out, P):
         ax, ay, az, dr, vm, xx, xy, xz = acc
-        fli, mi = own[7], own[8]
-        kind = data[3]
         ace, drho, xsph, mu_max = out
-        flj = one if kind[j] == FLUID else zero
-        ci = fli * (P.mass_b + flj * (P.mass_f - P.mass_b))
-        cj = flj * mi
+        ci, cj = T[6, m], T[7, m]
         vx, vy, vz, mu = T[0, m], T[1, m], T[2, m], T[5, m]
         add_to(ace, j, cj, vx, vy, vz)
         drho[j] += T[4, m]
-        mu_max[j] = max(mu_max[j], flj * mu)
+        mu_max[j] = max(mu_max[j], mu if cj != zero else zero)
         if use_xsph:
-            add_to(xsph, j, P.xsph_eps * cj, T[6, m], T[7, m], T[8, m])
-            xx -= ci * T[6, m]
-            xy -= ci * T[7, m]
-            xz -= ci * T[8, m]
+            add_to(xsph, j, P.xsph_eps * cj, T[8, m], T[9, m], T[10, m])
+            xx -= ci * T[8, m]
+            xy -= ci * T[9, m]
+            xz -= ci * T[10, m]
         return ax - ci * vx, ay - ci * vy, az - ci * vz, dr + T[3, m], max(vm, mu), xx, xy, xz
 
     @jit
