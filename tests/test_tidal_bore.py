@@ -119,10 +119,18 @@ ADAMI = dict(LOW_ALPHA, wall_pressure="adami")
 t = 2.5 s; over this bed it keeps 0.69-0.70 m/s to the end (`benchmarks/bed_drag.py`)."""
 
 
+@pytest.mark.validation
 def test_undular_bore_one_scheme_quick(tmp_path):
     """The quick version of `test_bores_at_the_paper_resolution_one_scheme`: the same scheme (`ADAMI`),
     flume and measures at dp = d0/10, for the U = 0.3 m/s bore.
-    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests"."""
+    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests".
+
+    Behind the validation marker since 2026-12-07: at d0/10 the fitted celerity scatters by about 2 % of c,
+    around -2.4 %, under perturbations as small as a 5e-4 change of the CFL number or another order of the
+    pair sums, against the 3 % tolerance. Six runs that day, the CFL number 0.2,
+    0.1999 and 0.2001, with the CPU's rates particle by particle and a pair at a time (the same sums in
+    another order): -2.69, -2.65, -1.28 % and -3.15, -1.78, -2.58 %; one failed. A quick check whose
+    verdict does not hang on round-off (the ensemble of a few perturbed runs, or a longer fit) is to come."""
     run_bores_one_scheme(0.3, 3.0, 0.01, tmp_path)
 
 
