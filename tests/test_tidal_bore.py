@@ -119,18 +119,10 @@ ADAMI = dict(LOW_ALPHA, wall_pressure="adami")
 t = 2.5 s; over this bed it keeps 0.69-0.70 m/s to the end (`benchmarks/bed_drag.py`)."""
 
 
-@pytest.mark.validation
 def test_undular_bore_one_scheme_quick(tmp_path):
     """The quick version of `test_bores_at_the_paper_resolution_one_scheme`: the same scheme (`ADAMI`),
     flume and measures at dp = d0/10, for the U = 0.3 m/s bore.
-    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests".
-
-    Behind the validation marker since 2026-12-07: at d0/10 the fitted celerity scatters by about 2 % of c,
-    around -2.4 %, under perturbations as small as a 5e-4 change of the CFL number or another order of the
-    pair sums, against the 3 % tolerance. Six runs that day, the CFL number 0.2,
-    0.1999 and 0.2001, with the CPU's rates particle by particle and a pair at a time (the same sums in
-    another order): -2.69, -2.65, -1.28 % and -3.15, -1.78, -2.58 %; one failed. A quick check whose
-    verdict does not hang on round-off (the ensemble of a few perturbed runs, or a longer fit) is to come."""
+    Measurements: `benchmarks/results/notes/README.md`, "Tidal-bore tests"."""
     run_bores_one_scheme(0.3, 3.0, 0.01, tmp_path)
 
 
@@ -150,7 +142,7 @@ def test_bores_at_the_paper_resolution_one_scheme(U, L, tmp_path):
     """Issue 5 item 2 at the paper's dp = d0/20 = 5 mm with one scheme (`ADAMI`): the U = 0.3 m/s bore in
     the paper's 3 m flume and the U = 0.7 m/s bore in a 5 m one (timed over 1.0-2.5 m after it has
     formed), each to t = 0.95 L / (U + c), when the inflow wall is about to meet it. Within 3 % of
-    Belanger: the front's celerity, fitted to its position in every 0.1 s snapshot while it is between
+    Belanger: the front's celerity, fitted to its position in every snapshot (`SNAPSHOTS`) while it is between
     1 m and the last gauge (`shoal.analysis.front_position`: where the clear-water depth profile on 5 cm
     bins falls through (d0 + d1) / 2), and the conjugate depth at each gauge as the water's volume per
     unit length within 5 cm of it (`shoal.analysis.volume_depth`, the d1 of the mass balance). The
@@ -160,13 +152,21 @@ def test_bores_at_the_paper_resolution_one_scheme(U, L, tmp_path):
     run_bores_one_scheme(U, L, 0.005, tmp_path)
 
 
+SNAPSHOTS = 0.02
+"""Seconds between the snapshots that track a bore's front: an undular front pulsates (its first crest
+forms and steepens in turn), and a fit to its position every 0.1 s samples that pulsation at a few
+phases only. At d0/10 the celerity fitted to 10 snapshots 0.1 s apart moved by up to 1.9 % of c under
+perturbations as small as a 5e-4 change of the CFL number; from 51 snapshots 0.02 s apart, the same six
+runs scatter by 0.36 % around -1.34 % (`benchmarks/results/notes/README.md`, "Tidal-bore tests")."""
+
+
 def run_bores_one_scheme(U, L, dp, tmp_path, inflow="wall"):
     """Run the `ADAMI` bore of inflow `U` in a flume `L` long at `dp` (the water pushed in by a moving wall or let
     in through an open boundary, `inflow`) and assert issue 5 item 2 on it."""
     c, d1, _ = bore_from_inflow(U, D0)
     t_end = 0.95 * L / (U + c)
     gauges = [x for x in (0.5, 1.0, 1.5, 2.0, 2.5) if x < c * t_end - 0.1]
-    case = tidal_bore(dp=dp, inflow_speed=U, dim=2, end_time=t_end, output_interval=0.1,
+    case = tidal_bore(dp=dp, inflow_speed=U, dim=2, end_time=t_end, output_interval=SNAPSHOTS,
                       options=SPHOptions(**ADAMI), length=L, gauges_x=gauges, inflow=inflow)
     res = shoal.run_case(case, tmp_path / "bore", plot=False)
     assert res.escaped == 0
