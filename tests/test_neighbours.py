@@ -332,6 +332,57 @@ def test_binning_sorts_by_cell_stably(dim):
         assert cs[c + 1] - cs[c] == np.count_nonzero(cell == c)
 
 
+@pytest.mark.parametrize("threads", [1, 2, 7])
+def test_the_threads_counting_sort_is_a_stable_argsort_whatever_its_blocks(threads):
+    """The grid's counting sort (`_counting_sort`) splits the cells into `threads` blocks from the previous
+    sort's ranges: with no previous sort, a stale one, nearly sorted or shuffled cells, a cell holding every
+    particle, particles outside the grid (cell ncell), its permutation is NumPy's stable argsort and its
+    ranges are the cells' counts summed up. 7 blocks on this machine's threads: a thread sorts several."""
+    from shoal.neighbours.grid import _counting_sort
+
+    rng = np.random.default_rng(threads)
+    blocks = np.zeros(2 * (threads + 1), np.int64)
+    for trial in range(24):
+        ncell = int(rng.integers(1, 3000))
+        n = int(rng.integers(0, 5000))
+        cell = rng.integers(0, ncell + 1, n).astype(np.int32)
+        if trial % 3 == 1:
+            cell.sort()  # in cell order since the last sort, a few particles moved
+            cell[rng.integers(0, max(n, 1), min(n, 15))] = rng.integers(0, ncell + 1)
+        elif trial % 3 == 2:
+            cell[:] = rng.integers(0, ncell + 1)  # every particle in one cell
+        cell_start = np.zeros(ncell + 2, np.int32)
+        if trial % 2:
+            cell_start[:] = np.sort(rng.integers(0, 2 * n + 1, ncell + 2))  # another sort's ranges
+        perm = np.full(n, -1, np.int32)
+        _counting_sort(cell, n, ncell, cell_start, perm, threads, blocks)
+        np.testing.assert_array_equal(perm, np.argsort(cell, kind="stable"))
+        np.testing.assert_array_equal(cell_start, np.r_[0, np.cumsum(np.bincount(cell, minlength=ncell + 1))])
+
+
+def test_binning_is_the_same_on_one_thread_and_two():
+    """`CellGrid.bin` on 1 and 2 threads of Numba's pool gives the same permutation and ranges, sort after
+    sort of moving particles (each sort's blocks come from the previous one)."""
+    rng = np.random.default_rng(3)
+    lo, hi = np.zeros(3), np.array([0.6, 0.3, 0.4])
+    pos = lo + rng.random((20000, 3)) * (hi - lo)
+    grids = [CellGrid(lo, hi, 0.04, 2, len(pos)) for _ in range(2)]
+    before = numba.get_num_threads()
+    try:
+        for step in range(3):
+            pos += 0.01 * rng.standard_normal(pos.shape)  # some leave the box
+            out = []
+            for threads, grid in zip((1, min(2, numba.config.NUMBA_NUM_THREADS)), grids):
+                numba.set_num_threads(threads)
+                grid.bin(pos, len(pos))
+                out.append((grid.perm.copy(), grid.cell_start.copy()))
+            np.testing.assert_array_equal(out[0][0], out[1][0])
+            np.testing.assert_array_equal(out[0][1], out[1][1])
+            pos = pos[out[0][0]]
+    finally:
+        numba.set_num_threads(before)
+
+
 @pytest.mark.parametrize("cps", [1, 2])
 @pytest.mark.parametrize("dim", [2, 3])
 def test_outside_and_nan_particles_go_last(dim, cps):

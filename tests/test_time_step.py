@@ -149,3 +149,33 @@ def test_a_step_that_no_longer_advances_the_time_stops_the_run():
     sim.time = 1.0
     with pytest.raises(InstabilityError, match="no longer advances t = 1 s"):
         sim.run(max_steps=1)
+
+
+@pytest.mark.parametrize("precision", [np.float32, np.float64])
+def test_the_check_finds_the_first_bad_particle_on_any_thread_count(precision):
+    """`find_bad`, the check after every step, scans the particles on all threads: the lowest index
+    whose position, velocity or density is not finite, or a fluid particle's density outside the band,
+    wins, whichever thread found it; a wall particle's density is not checked."""
+    import numba
+
+    from shoal.backends.cpu import find_bad
+
+    rng = np.random.default_rng(5)
+    n = 50000
+    pos, vel = rng.random((n, 3)).astype(precision), rng.random((n, 3)).astype(precision)
+    rho, kind = (1000.0 + rng.random(n)).astype(precision), np.zeros(n, np.int8)
+    kind[30000], rho[30000] = 1, 2000.0  # a wall particle
+    before = numba.get_num_threads()
+    try:
+        for threads in range(1, numba.config.NUMBA_NUM_THREADS + 1):
+            numba.set_num_threads(threads)
+            assert find_bad(n, pos, vel, rho, kind, 700.0, 1300.0) == (-1, 0)
+            rho[41000] = 650.0
+            vel[45000, 2] = np.nan
+            assert find_bad(n, pos, vel, rho, kind, 700.0, 1300.0) == (41000, 2)
+            pos[40001, 0] = np.inf
+            assert find_bad(n, pos, vel, rho, kind, 700.0, 1300.0) == (40001, 1)
+            assert find_bad(40001, pos, vel, rho, kind, 700.0, 1300.0) == (-1, 0)
+            rho[41000], vel[45000, 2], pos[40001, 0] = 1000.0, 0.0, 0.5
+    finally:
+        numba.set_num_threads(before)

@@ -171,20 +171,32 @@ def split_positions(n, pos, lo, out):
 
 
 @numba.njit(cache=True)
+def bad_code(i, pos, vel, rho, kind, rho_lo, rho_hi):
+    """0 if particle i's state is sane, 1 if its position, velocity or density is not finite, 2 if it is
+    a fluid particle with a density outside [rho_lo, rho_hi]."""
+    r = rho[i]
+    if not np.isfinite(r):
+        return 1
+    for d in range(pos.shape[1]):
+        if not (np.isfinite(pos[i, d]) and np.isfinite(vel[i, d])):
+            return 1
+    if kind[i] == FLUID and (r < rho_lo or r > rho_hi):
+        return 2
+    return 0
+
+
+@numba.njit(parallel=True, cache=True)
 def find_bad(n, pos, vel, rho, kind, rho_lo, rho_hi):
     """First particle with a non-finite state or a density outside
-    [rho_lo, rho_hi] (fluid only), or -1; and a code: 1 NaN/inf, 2 density."""
-    dim = pos.shape[1]
-    for i in range(n):
-        r = rho[i]
-        if not np.isfinite(r):
-            return i, 1
-        for d in range(dim):
-            if not (np.isfinite(pos[i, d]) and np.isfinite(vel[i, d])):
-                return i, 1
-        if kind[i] == FLUID and (r < rho_lo or r > rho_hi):
-            return i, 2
-    return -1, 0
+    [rho_lo, rho_hi] (fluid only), or -1; and a code: 1 NaN/inf, 2 density (`bad_code`).
+    Every step runs it: the threads scan the particles together (the lowest bad index wins)."""
+    first = n
+    for i in numba.prange(n):
+        if bad_code(i, pos, vel, rho, kind, rho_lo, rho_hi) != 0:
+            first = min(first, i)
+    if first == n:
+        return -1, 0
+    return first, bad_code(first, pos, vel, rho, kind, rho_lo, rho_hi)
 
 
 @numba.njit(cache=True)

@@ -39,25 +39,64 @@ def _cell_index(pos, n, lo, hi, inv_cs, dims, ncell, out):
         out[i] = c if inside else ncell
 
 
-@numba.njit(cache=True)
-def _counting_sort(cell, n, ncell, cell_start, perm):
-    # histogram
-    for c in range(ncell + 2):
-        cell_start[c] = 0
-    for i in range(n):
-        cell_start[cell[i] + 1] += 1
-    # exclusive prefix sum: cell_start[c] = first particle of cell c
-    for c in range(1, ncell + 2):
-        cell_start[c] += cell_start[c - 1]
-    # stable scatter (use the histogram slots as running offsets)
-    # cell_start[c] is advanced while scattering, then shifted back.
-    for i in range(n):
-        c = cell[i]
-        perm[cell_start[c]] = i
-        cell_start[c] += 1
-    for c in range(ncell + 1, 0, -1):
-        cell_start[c] = cell_start[c - 1]
-    cell_start[0] = 0
+@numba.njit(parallel=True, cache=True)
+def _counting_sort(cell, n, ncell, cell_start, perm, threads, blocks):
+    """Stable counting sort of the first n particles by ``cell`` (0 .. ncell), on `threads` threads.
+
+    Each thread owns a block of cells [b_t, b_t+1) (``blocks[:threads + 1]``) and sorts the
+    particles of its cells: it scans every particle and counts its own cells' (into ``cell_start``'s
+    slots of those cells, which no other thread touches), then, once the blocks' totals give its
+    offset, sums the counts up into the ends of its cells' ranges and scatters its particles from
+    the last to the first, each to the end of its cell's range, which leaves the ranges' starts in
+    ``cell_start``. The blocks split the work
+    (two passes over a block's cells, two over its particles, as the previous sort's ``cell_start``
+    counts them) evenly; any split gives the same result.
+    ``blocks[threads + 1:]`` holds the blocks' totals (work space, 2 (threads + 1) values in all).
+    """
+    m = ncell + 1  # the cells 0 .. ncell (ncell: outside the grid)
+    # a thread's work: two passes over its cells, two over its particles (the previous sort's)
+    work = 2 * m + 2 * np.int64(cell_start[m])
+    blocks[0] = 0
+    for t in range(1, threads):
+        target = (work * t) // threads
+        a, b = blocks[t - 1], m  # the first cell c with 2 c + 2 cell_start[c] >= target
+        while a < b:
+            c = (a + b) // 2
+            if 2 * c + 2 * np.int64(cell_start[c]) < target:
+                a = c + 1
+            else:
+                b = c
+        blocks[t] = a
+    blocks[threads] = m
+    total = blocks[threads + 1:]
+    for t in numba.prange(threads):
+        lo, hi = blocks[t], blocks[t + 1]
+        for c in range(lo, hi):
+            cell_start[c] = 0
+        s = 0
+        for i in range(n):
+            c = cell[i]
+            if c >= lo and c < hi:
+                cell_start[c] += 1
+                s += 1
+        total[t] = s
+    offset = 0
+    for t in range(threads):
+        s = total[t]
+        total[t] = offset
+        offset += s
+    for t in numba.prange(threads):
+        lo, hi = blocks[t], blocks[t + 1]
+        end = total[t]
+        for c in range(lo, hi):
+            end += cell_start[c]
+            cell_start[c] = end  # the end of cell c's range
+        for i in range(n - 1, -1, -1):
+            c = cell[i]
+            if c >= lo and c < hi:
+                cell_start[c] -= 1
+                perm[cell_start[c]] = i
+    cell_start[m] = n
 
 
 @numba.njit(parallel=True, cache=True)
@@ -169,6 +208,7 @@ class CellGrid:
         self.cell = np.zeros(capacity, dtype=np.int32)
         self.perm = np.zeros(capacity, dtype=np.int32)
         self._unsorted = np.zeros(capacity, dtype=np.int32)
+        self._blocks = np.zeros(2 * (numba.config.NUMBA_NUM_THREADS + 1), dtype=np.int64)
         self._dims = dims.astype(np.int64)
         self._inv_cs = 1.0 / self.cell_size
         self.n_active = 0
@@ -192,7 +232,8 @@ class CellGrid:
         sorted order. Returns the number of particles inside the domain.
         """
         _cell_index(pos, n, self.lo, self.hi, self._inv_cs, self._dims, self.ncell, self._unsorted)
-        _counting_sort(self._unsorted, n, self.ncell, self.cell_start, self.perm)
+        threads = numba.get_num_threads()
+        _counting_sort(self._unsorted, n, self.ncell, self.cell_start, self.perm, threads, self._blocks)
         _sorted_cells(self._unsorted, self.perm, n, self.cell)
         self.n_active = int(self.cell_start[self.ncell])
         return self.n_active
