@@ -19,7 +19,7 @@ from scipy.spatial import cKDTree
 
 from shoal.backends.cpu import MutualRates
 from shoal.cases import dam_break_2d, dam_break_3d, dam_break_dualsphysics, floating_box_2d
-from shoal.neighbours.half_sweep import COLOURS, deal_tiles
+from shoal.neighbours.half_sweep import COLOURS, deal_tiles, make_tiles, tile_counter
 from shoal.physics.mutual import mutual_supported
 from shoal.physics.spec import FLUID
 from shoal.runner import build_model
@@ -151,7 +151,17 @@ def test_no_two_tiles_of_a_colour_write_to_one_particle():
     cell = m.grid.cell[:n]
     cx = cell % nx
     cz = cell // (nx * ny)
-    bx, bz = cx // (2 * cps), cz // cps
+    # each cell's tile (bx, bz) and colour, as the sweep's own tiling (`make_tiles`) cuts the grid
+    tile_cells = make_tiles(lambda f: f, m.spec)
+    tile_of = np.full((nz, nx, 2), -1)
+    colour_of = np.full((nz, nx), -1)
+    ntx = -(-nx // cps)
+    for t in range(tile_counter(m.spec)((nx, ny, nz))):
+        x0, x1, z0, z1, c = tile_cells(t, (nx, ny, nz))
+        tile_of[z0:z1, x0:x1] = (t % ntx, t // ntx)
+        colour_of[z0:z1, x0:x1] = c
+    assert np.all(tile_of >= 0)  # every cell in a tile
+    bx, bz = tile_of[cz, cx, 0], tile_of[cz, cx, 1]
     support = 2 * float(m.h)
     pairs = cKDTree(m.pos[:n]).query_pairs(support * (1 + 1e-6), output_type="ndarray")
     assert len(pairs) > 1000
@@ -162,6 +172,7 @@ def test_no_two_tiles_of_a_colour_write_to_one_particle():
     assert np.all((bz[j] - bz[i] >= 0) & (bz[j] - bz[i] <= 1))
     # so two tiles of one colour (bx 3 apart or more, or bz 2 apart or more) never write to one particle
     colour = bx % 3 + 3 * (bz % 2)
+    np.testing.assert_array_equal(colour, colour_of[cz, cx])
     assert set(np.unique(colour)) <= set(range(COLOURS))
 
 

@@ -7,9 +7,12 @@ row in cell order whole and its own row from i + 1, and skips the others: one co
 particles a row, as before, with half the candidates.
 
 i then writes to particles within n cells of its own in x and y and in the n planes of cells above
-(n = `cells_per_support`). The grid is cut into *tiles*, 2n cells along x by n along z (all of y), so
+(n = `cells_per_support`). The grid is cut into *tiles*, n cells along x by n along z (all of y), so
 that the writes of tile (bx, bz) stay within tiles bx - 1 .. bx + 1 and bz .. bz + 1: tiles whose bx
 differ by a multiple of 3 and whose bz differ by a multiple of 2 never write to the same particle.
+Tiles as small as that keep the threads' loads even: at rest, the DualSPHysics dam break's tiles of a
+colour, dealt by their weights to 16 threads, load the busiest thread at most 1 / 0.971 of the mean at
+920,136 particles (1 / 0.888 with tiles 2n cells along x), 1 / 0.836 at 173,531 (1 / 0.743).
 The tiles of each of the six colours (bx mod 3, bz mod 2) are swept at once, one tile by one thread in
 cell order, the colours one after the other. Each particle's sums are thus added up in an order set by
 the grid alone, not by the threads nor by how the tiles are dealt to them: the results are the same
@@ -112,28 +115,27 @@ def make_tiles(jit, spec):
     """Return ``tile_cells(t, gdims)`` -> (x0, x1, z0, z1, colour): tile t holds the cells x0 <= cx < x1,
     z0 <= cz < z1 (all of y; in 2D z is the second axis), tiles numbered bx + ntx bz (`tile_counter`)."""
     n = spec.cells_per_support
-    wx = 2 * n
 
     @jit
     def tile_cells(t, gdims):
         nx, ny, nz = gdims
-        ntx = (nx + wx - 1) // wx
+        ntx = (nx + n - 1) // n
         bx = t % ntx
         bz = t // ntx
-        x0 = bx * wx
+        x0 = bx * n
         z0 = bz * n
-        return x0, min(x0 + wx, nx), z0, min(z0 + n, nz), bx % 3 + 3 * (bz % 2)
+        return x0, min(x0 + n, nx), z0, min(z0 + n, nz), bx % 3 + 3 * (bz % 2)
 
     return tile_cells
 
 
 def tile_counter(spec):
-    """``count(gdims)`` -> the number of tiles of a grid of (nx, ny, nz) cells: ceil(nx / 2n) ceil(nz / n)."""
+    """``count(gdims)`` -> the number of tiles of a grid of (nx, ny, nz) cells: ceil(nx / n) ceil(nz / n)."""
     n = spec.cells_per_support
 
     def count(gdims):
         nx, ny, nz = gdims
-        return -(-nx // (2 * n)) * -(-nz // n)
+        return -(-nx // n) * -(-nz // n)
 
     return count
 
