@@ -85,23 +85,23 @@ def cache_name(fn):
 def _build_mutual_sweep(tile):
     # the threads sweep the tiles dealt to them (`shoal.neighbours.half_sweep`), colour after colour: a
     # parallel loop of `threads` iterations, one a thread
-    def run(n, args, threads, cost, colour_of, order, starts):
+    def run(n, args, threads, cost, colour_of, order, starts, wet):
         (pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph, mu_max, tau, planes,
          ptable, vwall, idp, ghosts, gid0) = args
         n_tiles = colour_of.shape[0]
         for i in numba.prange(n):
             tile(0, np.uint64(i), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-                 mu_max, planes, ptable, tau, vwall, cost, colour_of)
+                 mu_max, planes, ptable, tau, vwall, cost, colour_of, wet)
         for t in numba.prange(n_tiles):
             tile(1, np.uint64(t), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-                 mu_max, planes, ptable, tau, vwall, cost, colour_of)
+                 mu_max, planes, ptable, tau, vwall, cost, colour_of, wet)
         deal_tiles(colour_of, threads, cost, order, starts)
         for colour in range(COLOURS):
             base = colour * (threads + 1)
             for t in numba.prange(threads):
                 for k in range(starts[base + t], starts[base + t + 1]):
                     tile(2, np.uint64(order[k]), pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr,
-                         ace, drho, xsph, mu_max, planes, ptable, tau, vwall, cost, colour_of)
+                         ace, drho, xsph, mu_max, planes, ptable, tau, vwall, cost, colour_of, wet)
 
     digest = hashlib.sha1(str(tile._uuid).encode()).hexdigest()[:16]
     run.__qualname__ = f"mutual_sweep_{digest}"
@@ -136,7 +136,8 @@ class MutualRates:
             self._colour = np.zeros(n_tiles, np.int64)
             self._order = np.zeros(3 * n_tiles + threads, np.int64)
             self._starts = np.zeros(COLOURS * (threads + 1), np.int64)
-        self.kernel(n, args, threads, self._cost, self._colour, self._order, self._starts)
+            self._wet = np.zeros(n_tiles, np.uint8)
+        self.kernel(n, args, threads, self._cost, self._colour, self._order, self._starts, self._wet)
 
 
 @numba.njit(parallel=True, cache=True)

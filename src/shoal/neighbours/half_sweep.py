@@ -18,7 +18,8 @@ cell order, the colours one after the other. Each particle's sums are thus added
 the grid alone, not by the threads nor by how the tiles are dealt to them: the results are the same
 bits with any thread count. The tiles of a colour are dealt to the threads costliest first, each to the
 least loaded thread (`deal_tiles`), a tile weighed by its fluid particles (a wall particle's pairs are
-with fluid only, and most of its candidates are walls).
+with fluid only, and most of its candidates are walls). A wall particle whose half stencil reaches no
+tile with fluid (`make_tile_reach`) has no pair, and is not visited.
 
 Used by the CPU's rates where the scheme's pair terms allow (`shoal.physics.mutual`); without
 periodic axes or a symmetry plane.
@@ -127,6 +128,28 @@ def make_tiles(jit, spec):
         return x0, min(x0 + n, nx), z0, min(z0 + n, nz), bx % 3 + 3 * (bz % 2)
 
     return tile_cells
+
+
+def make_tile_reach(jit, spec):
+    """Return ``reaches(t, gdims, flags)``: whether ``flags`` (one a tile, numbered as `make_tiles`) is set for
+    a tile that the half stencils of tile t's particles reach, bx - 1 .. bx + 1 and bz .. bz + 1 (see the
+    module docstring)."""
+    n = spec.cells_per_support
+
+    @jit
+    def reaches(t, gdims, flags):
+        nx, ny, nz = gdims
+        ntx = (nx + n - 1) // n
+        ntz = (nz + n - 1) // n
+        bx = t % ntx
+        bz = t // ntx
+        for b in range(max(bx - 1, 0), min(bx + 2, ntx)):
+            for d in range(bz, min(bz + 2, ntz)):
+                if flags[b + ntx * d]:
+                    return True
+        return False
+
+    return reaches
 
 
 def tile_counter(spec):

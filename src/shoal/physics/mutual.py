@@ -30,7 +30,7 @@ per-particle gather.
 
 import numpy as np
 
-from ..neighbours.half_sweep import WALL_WEIGHT, make_tiles
+from ..neighbours.half_sweep import WALL_WEIGHT, make_tile_reach, make_tiles
 from .rates import make_store, make_tensile
 from .reciprocals import make_reciprocals
 from .spec import FLUID
@@ -139,11 +139,14 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
     """Return ``(mutual_tile, particle_mutual)``, the CPU's rates a pair at a time (`mutual_supported`).
 
     ``mutual_tile(mode, t, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-    mu_max, planes, ptable, tau, vwall, cost, colour_of)`` is what the CPU's sweep calls (`shoal.backends.cpu`), t a
-    particle or a tile of `shoal.neighbours.half_sweep`: mode 0 starts particle t's sums
-    (``mutual_init``); mode 1 weighs tile t into ``cost[t]`` (`half_sweep.WALL_WEIGHT`) and writes its
-    colour into ``colour_of[t]``; mode 2 sweeps tile t (``particle_mutual`` for each of its particles, in
-    cell order).
+    mu_max, planes, ptable, tau, vwall, cost, colour_of, wet)`` is what the CPU's sweep calls (`shoal.backends.cpu`),
+    t a particle or a tile of `shoal.neighbours.half_sweep`: mode 0 starts particle t's sums
+    (``mutual_init``); mode 1 weighs tile t into ``cost[t]`` (`half_sweep.WALL_WEIGHT`), writes its
+    colour into ``colour_of[t]`` and into ``wet[t]`` whether it holds fluid; mode 2, once modes 0 and 1 have
+    run for every particle and tile, sweeps tile t (``particle_mutual`` for each of its particles, in cell
+    order), but for its wall particles only where a tile their half stencils reach (the tile's neighbours
+    in x and the tiles above them) holds fluid: a wall particle pairs with fluid only, and most of a tank's
+    wall particles are away from the water.
 
     ``mutual_init(i, kind, ace, drho, xsph, mu_max, Parr)`` starts particle i's sums: gravity for a
     fluid particle's acceleration, zero otherwise. ``particle_mutual(i, pos, spos, vel, rho, pr2, kind,
@@ -267,29 +270,35 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
             add_to(xsph, i, P.xsph_eps * fli, xx, xy, xz)
 
     tile_cells = make_tiles(jit, spec)
+    reaches = make_tile_reach(jit, spec)
     wall_weight = WALL_WEIGHT
 
     @jit
     def mutual_tile(mode, t, pos, spos, vel, rho, pr2, kind, cell, cell_start, grid_dims, Parr, ace, drho, xsph,
-                    mu_max, planes, ptable, tau, vwall, cost, colour_of):
+                    mu_max, planes, ptable, tau, vwall, cost, colour_of, wet):
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         if mode == 0:
             mutual_init(t, kind, ace, drho, xsph, mu_max, Parr)
             return
         nx, ny = gdims[0], gdims[1]
         x0, x1, z0, z1, colour = tile_cells(t, gdims)
+        wet_near = mode == 2 and reaches(t, gdims, wet)
         c = 0.0
+        f = 0
         for z in range(z0, z1):
             for y in range(ny if dim == 3 else 1):
                 row = nx * (y + ny * z) if dim == 3 else nx * z
                 for i in range(cell_start[row + x0], cell_start[row + x1]):
                     if mode == 1:
-                        c += 1.0 if kind[i] == FLUID else wall_weight
-                    else:
+                        is_fluid = kind[i] == FLUID
+                        c += 1.0 if is_fluid else wall_weight
+                        f += is_fluid
+                    elif wet_near or kind[i] == FLUID:
                         particle_mutual(np.uint64(i), pos, spos, vel, rho, pr2, kind, cell, cell_start, gdims, Parr,
                                         ace, drho, xsph, mu_max, planes, ptable, tau, vwall)
         if mode == 1:
             cost[t] = c
             colour_of[t] = colour
+            wet[t] = f > 0
 
     return mutual_tile, particle_mutual
