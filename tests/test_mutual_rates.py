@@ -152,7 +152,7 @@ def test_no_two_tiles_of_a_colour_write_to_one_particle():
     cx = cell % nx
     cz = cell // (nx * ny)
     # each cell's tile (bx, bz) and colour, as the sweep's own tiling (`make_tiles`) cuts the grid
-    tile_cells = make_tiles(lambda f: f, m.spec)
+    tile_cells, _ = make_tiles(lambda f: f, m.spec)
     tile_of = np.full((nz, nx, 2), -1)
     colour_of = np.full((nz, nx), -1)
     ntx = -(-nx // cps)

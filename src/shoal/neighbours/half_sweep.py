@@ -19,7 +19,7 @@ the grid alone, not by the threads nor by how the tiles are dealt to them: the r
 bits with any thread count. The tiles of a colour are dealt to the threads costliest first, each to the
 least loaded thread (`deal_tiles`), a tile weighed by its fluid particles (a wall particle's pairs are
 with fluid only, and most of its candidates are walls). A wall particle whose half stencil reaches no
-tile with fluid (`make_tile_reach`) has no pair, and is not visited.
+tile with fluid (`make_tiles`' ``reaches``) has no pair, and is not visited.
 
 Used by the CPU's rates where the scheme's pair terms allow (`shoal.physics.mutual`); without
 periodic axes or a symmetry plane.
@@ -113,43 +113,38 @@ def make_half_gather(jit, spec, pair, terms, only):
 
 
 def make_tiles(jit, spec):
-    """Return ``tile_cells(t, gdims)`` -> (x0, x1, z0, z1, colour): tile t holds the cells x0 <= cx < x1,
-    z0 <= cz < z1 (all of y; in 2D z is the second axis), tiles numbered bx + ntx bz (`tile_counter`)."""
+    """Return ``(tile_cells, reaches)``.
+
+    ``tile_cells(t, gdims)`` -> (x0, x1, z0, z1, colour): tile t holds the cells x0 <= cx < x1,
+    z0 <= cz < z1 (all of y; in 2D z is the second axis), tiles numbered bx + ntx bz (`tile_counter`).
+    ``reaches(t, gdims, flags)``: whether ``flags`` (one a tile) is set for a tile that the half stencils
+    of tile t's particles reach, bx - 1 .. bx + 1 and bz .. bz + 1 (see the module docstring)."""
     n = spec.cells_per_support
+
+    @jit
+    def place(t, gdims):
+        # tile t's (bx, bz) and the tiles along x and z
+        nx, ny, nz = gdims
+        ntx = (nx + n - 1) // n
+        return t % ntx, t // ntx, ntx, (nz + n - 1) // n
 
     @jit
     def tile_cells(t, gdims):
-        nx, ny, nz = gdims
-        ntx = (nx + n - 1) // n
-        bx = t % ntx
-        bz = t // ntx
+        bx, bz, _, _ = place(t, gdims)
         x0 = bx * n
         z0 = bz * n
-        return x0, min(x0 + n, nx), z0, min(z0 + n, nz), bx % 3 + 3 * (bz % 2)
-
-    return tile_cells
-
-
-def make_tile_reach(jit, spec):
-    """Return ``reaches(t, gdims, flags)``: whether ``flags`` (one a tile, numbered as `make_tiles`) is set for
-    a tile that the half stencils of tile t's particles reach, bx - 1 .. bx + 1 and bz .. bz + 1 (see the
-    module docstring)."""
-    n = spec.cells_per_support
+        return x0, min(x0 + n, gdims[0]), z0, min(z0 + n, gdims[2]), bx % 3 + 3 * (bz % 2)
 
     @jit
     def reaches(t, gdims, flags):
-        nx, ny, nz = gdims
-        ntx = (nx + n - 1) // n
-        ntz = (nz + n - 1) // n
-        bx = t % ntx
-        bz = t // ntx
+        bx, bz, ntx, ntz = place(t, gdims)
         for b in range(max(bx - 1, 0), min(bx + 2, ntx)):
             for d in range(bz, min(bz + 2, ntz)):
                 if flags[b + ntx * d]:
                     return True
         return False
 
-    return reaches
+    return tile_cells, reaches
 
 
 def tile_counter(spec):

@@ -30,7 +30,7 @@ per-particle gather.
 
 import numpy as np
 
-from ..neighbours.half_sweep import WALL_WEIGHT, make_tile_reach, make_tiles
+from ..neighbours.half_sweep import WALL_WEIGHT, make_tiles
 from .rates import make_store, make_tensile
 from .reciprocals import make_reciprocals
 from .spec import FLUID
@@ -269,8 +269,7 @@ def make_particle_mutual(jit, spec, kernels, viscous, diffusion, make_half_gathe
         if use_xsph:
             add_to(xsph, i, P.xsph_eps * fli, xx, xy, xz)
 
-    tile_cells = make_tiles(jit, spec)
-    reaches = make_tile_reach(jit, spec)
+    tile_cells, reaches = make_tiles(jit, spec)
     wall_weight = WALL_WEIGHT
 
     @jit
