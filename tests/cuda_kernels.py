@@ -298,20 +298,39 @@ def float64_in_pair_loops(ptx, allowed=POSITION_F64):
 def machine_code_resources(ptx, cc):
     """Assemble `ptx` to machine code for `cc` with nvJitLink (no driver needed) and return
     ptxas's summary: registers per thread, spill stores / loads, stack."""
+    r = resources(ptx, cc)
+    return (f"({r['registers']} registers, {r['spill_stores']} B spill stores, {r['spill_loads']} B spill loads, "
+            f"{r['stack']} B stack)")
+
+
+def resources(ptx, cc, max_registers=None):
+    """ptxas's resources of the kernel in `ptx` assembled for `cc` by nvJitLink (no driver needed), as the
+    CUDA backend links it (`max_registers`: the register cap the backend passes, ``SHOAL_CUDA_MAX_REGISTERS``):
+    dict of registers a thread, spill stores and loads [bytes], stack frame [bytes]."""
     import re
 
     from cuda.core import Linker, LinkerOptions, ObjectCode
 
-    linker = Linker(ObjectCode.from_ptx(ptx.encode()), options=LinkerOptions(arch=f"sm_{cc[0]}{cc[1]}",
-                                                                                 verbose=True))
+    options = LinkerOptions(arch=f"sm_{cc[0]}{cc[1]}", verbose=True, max_register_count=max_registers)
+    linker = Linker(ObjectCode.from_ptx(ptx.encode()), options=options)
     linker.link("cubin")
     info = linker.get_info_log()
     regs = re.search(r"Used (\d+) registers", info)
     spill = re.search(r"(\d+) bytes stack frame, (\d+) bytes spill stores, (\d+) bytes spill loads", info)
     if not regs or not spill:
         raise RuntimeError(f"no resource summary in the ptxas log: {info[-500:]}")
-    return (f"({regs.group(1)} registers, {spill.group(2)} B spill stores, {spill.group(3)} B spill loads, "
-            f"{spill.group(1)} B stack)")
+    return dict(registers=int(regs.group(1)), spill_stores=int(spill.group(2)), spill_loads=int(spill.group(3)),
+                stack=int(spill.group(1)))
+
+
+def occupancy(registers, threads=128, sm_registers=65536, sm_threads=2048, sm_blocks=32):
+    """The share of an SM's threads that blocks of `threads` threads using `registers` registers each keep
+    resident, by registers alone (shared memory unused): registers are allocated to a warp in multiples of
+    256 (8 a thread) on compute capability 7.0-9.0."""
+    per_warp = -(-registers * 32 // 256) * 256
+    warps = -(-threads // 32)
+    blocks = min(sm_registers // (per_warp * warps), sm_threads // threads, sm_blocks)
+    return blocks * threads / sm_threads
 
 
 def _spec_flags(spec):

@@ -92,3 +92,21 @@ def test_regression_script_bad_base_is_one_line_exit_2():
                          capture_output=True, text=True, timeout=120)
     assert out.returncode == 2 and out.stderr.count("\n") == 1
     assert out.stderr.startswith("regression.py: error: --base 'no-such-rev-x' is not a commit")
+
+
+def test_the_spheric_benchmark_times_developed_flow_after_a_run_from_rest():
+    """``--case spheric-benchmark --developed-from T`` (issue 34): SPHERIC Test 2 with the cross-code benchmark's
+    settings, run from rest to T in the same process before the timed steps, which then start at the first step
+    past T; the run from rest is reported apart. A negative T is refused in one line, exit 2."""
+    from shoal.cases import spheric_benchmark
+
+    out = run("--case", "spheric-benchmark", "--dp", "0.04", "--steps", "2", "--warmup", "1",
+              "--developed-from", "0.01")
+    assert out.returncode == 0, out.stderr[-2000:]
+    r = json.loads(out.stdout)
+    case = spheric_benchmark(dp=0.04)
+    assert r["case"] == "spheric-benchmark" and r["particles"] == case.n_particles
+    assert r["advance_steps"] >= 1 and 0.01 <= r["start_time"] < r["simulated_time"]
+    assert abs(r["ms_per_step"] - 1e3 * r["wall_seconds"] / 2) < 1e-9 * r["ms_per_step"]
+    bad = run("--case", "spheric-benchmark", "--dp", "0.04", "--developed-from", "-0.5")
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "--developed-from" in bad.stderr

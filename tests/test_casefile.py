@@ -26,6 +26,7 @@ ROUND_TRIP = {
     "dam-break-2d": dict(dp=0.01),
     "dam-break-3d": dict(dp=0.02),
     "dam-break-dualsphysics": dict(dp=0.03),
+    "spheric-benchmark": dict(dp=0.04),
     "still-water-2d": dict(dp=0.05),
     "still-water-3d": dict(dp=0.05),
     "wave-flume-2d": dict(dp=0.04),

@@ -13,7 +13,7 @@ from shoal.simulation import Simulation
 
 COARSE = {
     "dam-break-2d": dict(dp=0.01), "dam-break-3d": dict(dp=0.03), "dam-break-dualsphysics": dict(dp=0.03),
-    "still-water-2d": dict(dp=0.05), "still-water-3d": dict(dp=0.06), "wave-flume-2d": dict(dp=0.04),
+    "spheric-benchmark": dict(dp=0.04), "still-water-2d": dict(dp=0.05), "still-water-3d": dict(dp=0.06), "wave-flume-2d": dict(dp=0.04),
     "wave-basin-2d": dict(dp=0.04, length=4.5), "wave-flume-3d": dict(dp=0.08, width=0.4), "tidal-bore": dict(dp=0.025), "tidal-bore-piers": dict(dp=0.025),
     "rip-current": dict(dp=0.075), "floating-box-2d": dict(dp=0.025), "moored-box-3d": dict(dp=0.05),
     "open-channel-2d": dict(dp=0.04), "open-channel-3d": dict(dp=0.05, length=0.6, gauges_x=[0.3]),

@@ -289,7 +289,7 @@ def test_device_check_info_stage_on_the_simulator(tmp_path):
     Python; nvidia-smi is missing): the versions, the kernel, and `shoal info`, in $OUT/info.txt. An
     unknown stage is one line and exit status 2."""
     r = run(BENCH / "device" / "check.sh", "nope", expect=2, cwd=tmp_path)
-    assert r.stderr.strip() == "check.sh: unknown stage 'nope'; allowed: info bench tests seed par cpu rip"
+    assert r.stderr.strip() == "check.sh: unknown stage 'nope'; allowed: info bench tests seed par cpu spheric regs rip"
     out = tmp_path / "out"
     run(BENCH / "device" / "check.sh", "info", cwd=tmp_path, timeout=300,
         env=dict(OUT=str(out), PY=sys.executable, NUMBA_ENABLE_CUDASIM="1", DEADLINE="240"))

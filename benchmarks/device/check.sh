@@ -19,6 +19,11 @@
 #   par    tests and seed at once (neither is timed; the GPU and 16 cores are shared)
 #   cpu    the same dam break on the CPU backend with all the machine's cores, ~1M particles, for the
 #          speed-up on one node                                                          -> $OUT/bench.jsonl
+#   spheric  issue 34 must-show 1: SPHERIC Test 2 as the cross-code benchmark runs it (bench_dambreak.py --case
+#          spheric-benchmark, float32) at dp = 6 mm (4,993,539 particles), 2,000 steps from t = 0.5 s (run from
+#          rest first, in the same process; DualSPHysics 5.4: 14.52 ms a step on an H100 SXM) -> $OUT/bench.jsonl
+#   regs   the same case from rest, 300 steps, with the rates kernel's registers capped (SHOAL_CUDA_MAX_REGISTERS
+#          unset, 80, 64, 48; ptxas's report of each: benchmarks/rates_registers.py)      -> $OUT/bench.jsonl
 #   rip    issue 6 item 5: the rip-current validation run (validation/rip-current/run.py) at RIP_DP
 #          (default 0.04 m: 437,262 particles, 36,571 steps to t = 22.5 s, 1.6e10 particle-steps; 0.03 m:
 #          896,148 and 48,761, 4.4e10) on the GPU within RIP_LIMIT s (default 480), then its analysis
@@ -33,8 +38,8 @@ DEADLINE=${DEADLINE:-560}
 mkdir -p "$OUT"
 stages=("$@"); [ ${#stages[@]} -eq 0 ] && stages=(info bench par cpu)
 for s in "${stages[@]}"; do
-  case $s in info|bench|tests|seed|par|cpu|rip) ;;
-  *) echo "check.sh: unknown stage '$s'; allowed: info bench tests seed par cpu rip" >&2; exit 2 ;; esac
+  case $s in info|bench|tests|seed|par|cpu|spheric|regs|rip) ;;
+  *) echo "check.sh: unknown stage '$s'; allowed: info bench tests seed par cpu spheric regs rip" >&2; exit 2 ;; esac
 done
 export PYTHONUNBUFFERED=1
 if [ -d .whl ] && [ ! -e /tmp/site/.shoal-wheels ]; then
@@ -71,10 +76,11 @@ except Exception as exc:
 print("SMOKE OK")
 PYEOF
 }
-bench() {  # dp steps limit [backend threads]
+bench() {  # dp steps limit [backend threads]; BENCH_ARGS: more arguments of bench_dambreak.py
   local be=${4:-cuda} extra=()
   [ "$be" = cpu ] && extra=(--threads "$5")
-  stamp "bench $be dp=$1 steps=$2"
+  local more=(); read -r -a more <<< "${BENCH_ARGS:-}"; extra+=("${more[@]}")
+  stamp "bench $be dp=$1 steps=$2 ${BENCH_ARGS:-} ${SHOAL_CUDA_MAX_REGISTERS:+max_registers=$SHOAL_CUDA_MAX_REGISTERS}"
   timeout "$(limit "$3")" $PY benchmarks/bench_dambreak.py --backend "$be" --dp "$1" --steps "$2" --precision float32 \
     "${extra[@]}" > "$OUT/bench_one.json" 2> "$OUT/bench_err_$1.txt"
   local rc=$?
@@ -119,6 +125,10 @@ for s in "${stages[@]}"; do
     bench 0.00475 200 90; bench 0.00278 200 120; bench 0.0016 50 200 ;;
   cpu)
     bench 0.00475 20 120 cpu "$(nproc)" ;;
+  spheric)
+    BENCH_ARGS="--case spheric-benchmark --developed-from 0.5" bench 0.006 2000 420 ;;
+  regs)
+    for r in 0 80 64 48; do SHOAL_CUDA_MAX_REGISTERS=$r BENCH_ARGS="--case spheric-benchmark" bench 0.006 300 100; done ;;
   tests)
     tests 300; tail -15 "$OUT/tests.log" ;;
   seed)

@@ -45,6 +45,33 @@ else:
 
 THREADS = 128
 
+MAX_REGISTERS_ENV = "SHOAL_CUDA_MAX_REGISTERS"
+"""The environment variable that caps the registers a thread of the loop kernels may use (`max_registers`)."""
+
+
+def max_registers():
+    """The register cap of the loop kernels (`make_for_each`) from ``SHOAL_CUDA_MAX_REGISTERS``: None (the
+    compiler's choice) when it is unset, empty or 0, else a whole number from 16 to 255.
+
+    An SM of compute capability 7.0-9.0 holds 65,536 registers and 2,048 threads, allocated to a warp in
+    multiples of 256 (8 a thread): at 128 threads a block, a kernel of 104-112 registers a thread runs 4 blocks
+    an SM (25 % occupancy), of 64 registers 8 (50 %). Fewer registers let more warps hide the memory latency
+    of the neighbour loop, at the price of values the compiler then recomputes or spills to local memory
+    (ptxas's report: `benchmarks/rates_registers.py`); which cap is fastest is measured on the GPU
+    (`benchmarks/device/check.sh regs`). Read when a kernel is first built in a process; the CUDA simulator
+    ignores it."""
+    raw = os.environ.get(MAX_REGISTERS_ENV, "").strip()
+    if raw in ("", "0"):
+        return None
+    try:
+        n = int(raw)
+    except ValueError:
+        n = 0
+    if not 16 <= n <= 255:
+        raise InputError(f"{MAX_REGISTERS_ENV}={raw!r}: give a whole number of registers from 16 to 255, "
+                         "or 0 (or leave it unset) for the compiler's choice")
+    return n
+
 
 def cuda_status():
     """(available, message): whether the CUDA backend can run here, and why not."""
@@ -75,8 +102,10 @@ def make_for_each(fn):
 
 
 def _build_for_each(fn):
+    cap = None if os.environ.get("NUMBA_ENABLE_CUDASIM") == "1" else max_registers()
+
     @barrier_free
-    @cuda.jit
+    @(cuda.jit(max_registers=cap) if cap else cuda.jit)
     def kernel(n, args):
         i = cuda.grid(1)
         if i < n:
@@ -253,6 +282,7 @@ class CUDABackend:
             raise InputError(f"backend 'cuda' is not available here: {why}; use --backend cpu")
         self._cuda = cuda
         self.spec = spec
+        max_registers()  # a bad cap is refused here, in one line, before anything is compiled
         for name, value in vars(_loops_for(spec)).items():  # compiled once per process and scheme
             setattr(self, name, value)
         self._accel2, self._first_bad, self._max = _reductions()

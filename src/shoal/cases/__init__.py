@@ -4,7 +4,7 @@
 """
 
 from ..errors import InputError
-from .dam_break import dam_break_2d, dam_break_3d, dam_break_dualsphysics
+from .dam_break import dam_break_2d, dam_break_3d, dam_break_dualsphysics, spheric_benchmark
 from .floating_box import floating_box_2d
 from .moored_box import moored_box_3d
 from .open_channel import open_channel_2d, open_channel_3d
@@ -20,6 +20,7 @@ CASES = {
     "dam-break-2d": dam_break_2d,
     "dam-break-3d": dam_break_3d,
     "dam-break-dualsphysics": dam_break_dualsphysics,
+    "spheric-benchmark": spheric_benchmark,
     "still-water-2d": still_water_2d,
     "still-water-3d": still_water_3d,
     "wave-flume-2d": wave_flume_2d,
@@ -59,6 +60,7 @@ def get_case(name, **kwargs):
 
 
 __all__ = ["CASES", "get_case", "case_parameters", "dam_break_2d", "dam_break_3d", "dam_break_dualsphysics",
+           "spheric_benchmark",
            "still_water_2d", "still_water_3d", "wave_flume_2d", "wave_flume_3d", "wave_basin_2d", "tidal_bore",
            "tidal_bore_piers",
            "rip_current", "floating_box_2d", "moored_box_3d", "open_channel_2d", "open_channel_3d", "sluice_gate_2d",

@@ -12,6 +12,13 @@
   tensile correction, h = sqrt(3) dp, c0 = 20 sqrt(g H), alpha = 0.1,
   Fourtakas diffusion delta = 0.1, one layer of dynamic boundary
   particles, Verlet with an Euler step every 40 steps, CFL 0.2.
+* `spheric_benchmark`: SPHERIC Test 2 (the dam break against a box) as the
+  public cross-code GPU benchmark runs it in DualSPHysics, TNL-SPH and
+  OpenFPM (`sph-benchmarks`, case damBreak3D): a closed tank 2 m high,
+  Wendland kernel with h = 2 dp, alpha = 0.02 without viscosity on the
+  walls, Molteni diffusion delta = 0.1, three layers of dynamic boundary
+  particles, Verlet; 4,993,539 particles at dp = 6 mm (DualSPHysics
+  4,989,696).
 
 Run time on 2 cores: `dam-break-2d` at its default dp = 0.003 m (6,376
 particles, to T = 3.5) about 40 s; `dam-break-3d` at dp = 0.008 m a few
@@ -113,6 +120,67 @@ def dualsphysics_particle_estimate(dp, layers=1):
     (173,531) to 1.6 mm (20,809,097), and 2 % low with three. The tank's volume over dp^3, the estimate
     before, was 5.7 times too many and refused a 20.8M-particle run on a 24 GB machine."""
     return 0.4 * 0.67 * 0.3 / dp**3 + (2.888 + 0.2304) * layers / dp**2
+
+
+SPHERIC_BENCHMARK_OPTIONS = dict(kernel="wendland", coef_h=2.0 / 3.0**0.5, coef_sound=20.0, viscosity="artificial",
+                                 alpha=0.02, visco_bound_factor=0.0, density_diffusion="molteni", delta=0.1,
+                                 integrator="verlet", verlet_euler_every=40, cfl=0.2, wall_pressure="dynamic")
+"""The cross-code benchmark's scheme (its DualSPHysics definition ``damBreak3D_WCSPH-DBC_Def_template.xml``):
+Wendland kernel, h = 2 dp (``hdp = 2``: DualSPHysics's coefh 1.1547), c0 = 20 sqrt(g h_swl), artificial viscosity
+0.02 with ``ViscoBoundFactor = 0``, Molteni and Colagrossi's density diffusion 0.1, DBC, Verlet with an Euler step
+every 40, CFL 0.2, no shifting."""
+
+SPHERIC_BENCHMARK_TANK = (3.21, 0.99, 1.992)
+"""The benchmark's tank inside [m]: DualSPHysics's at dp = 6 mm, whose wall particles stand on the lattice points
+nearest the nominal 3.22 x 1 x 2 m faces (x 0.002 .. 3.218, y 0.002 .. 0.998, z 0.002 .. 2.0 on its lattice from
+-1 m), with the fluid a spacing inside them; here the faces lie half a spacing inside the wall particles."""
+SPHERIC_BENCHMARK_BOX = ((0.654, 0.294, 0.0), (0.816, 0.696, 0.156))
+"""The box [m] in the tank's frame: DualSPHysics's box particles at x 0.662 .. 0.818, y 0.302 .. 0.698, up to
+z = 0.158 (the nominal 0.66, 0.30, 0.16 x 0.40 x 0.16 m rounded to its lattice), three layers inwards."""
+SPHERIC_BENCHMARK_WATER = (1.992, 0.54)
+"""The water column's start along x and depth [m]: DualSPHysics fills x 2.000 .. 3.212 and z 0.008 .. 0.542 at
+dp = 6 mm (203 x 165 x 90 particles, 3,014,550), the nominal 1.992 m and 0.55 m less the lattice points within
+half a spacing of its fill box."""
+SPHERIC_BENCHMARK_SWL = 0.534
+"""The still-water level of the sound speed [m]: DualSPHysics's h_swl, the height between its lowest and highest
+fluid particle at dp = 6 mm (c0 = 20 sqrt(g h_swl) = 45.7757 m/s in its log)."""
+
+
+def spheric_benchmark(dp=0.006, end_time=4.0, precision="float32", options=None):
+    """SPHERIC Test 2 as the public cross-code GPU benchmark runs it (T. Halada's ``sph-benchmarks``, case
+    damBreak3D: DualSPHysics 5.x, TNL-SPH and OpenFPM with the same settings on many GPUs, logs committed).
+
+    A closed tank 3.21 x 0.99 x 1.992 m inside (`SPHERIC_BENCHMARK_TANK`), three layers of dynamic boundary
+    particles on every face; the box `SPHERIC_BENCHMARK_BOX` with three layers; the water column from x = 1.992 m
+    to the far wall, 0.54 m deep; the scheme `SPHERIC_BENCHMARK_OPTIONS`; 4 s simulated, no probes and no
+    output but the last state (the benchmark's definition has no gauges). The geometry is DualSPHysics's
+    particles at dp = 6 mm moved by 5 mm: there shoal's fluid is the same 3,014,550 particles and its walls
+    1,978,989 (the tank 1,961,418, the box 17,571) against DualSPHysics's 1,975,146 (its box's walls run two
+    spacings into the floor, which stops short of them; shoal's floor runs under the box), 4,993,539 particles
+    in all against 4,989,696 (+0.08 %). Other dp keep the geometry. The benchmark's figures on an H100 SXM:
+    DualSPHysics 5.4 14.52 ms a step, TNL-SPH 12.51 ms (issue 34); `benchmarks/bench_dambreak.py --case
+    spheric-benchmark` times it.
+
+    References
+    ----------
+    T. Halada, sph-benchmarks (GitHub ``tomashalada/sph-benchmarks``), ``damBreak3D/resoucres_dualsphysics/
+    damBreak3D_WCSPH-DBC_Def_template.xml`` and ``results/``.
+    K. M. T. Kleefsman et al., J. Comput. Phys. 206 (2005) 363-393 (the experiment, SPHERIC Test 2).
+    """
+    Lx, Ly, Lz = SPHERIC_BENCHMARK_TANK
+    x0, depth = SPHERIC_BENCHMARK_WATER
+    box_lo, box_hi = SPHERIC_BENCHMARK_BOX
+    check_dp(dp, box_hi[0] - box_lo[0], "the box's length")
+    check_count((Lx - x0) * Ly * depth / dp**3 + 3 * 2 * (Lx * Ly + Lx * Lz + Ly * Lz) / dp**2, 3)
+    opts = options or SPHOptions(**SPHERIC_BENCHMARK_OPTIONS, precision=precision)
+    return Case(name="spheric-benchmark", dim=3, dp=float(dp), end_time=float(end_time),
+                description="SPHERIC Test 2 as the sph-benchmarks cross-code GPU benchmark runs it",
+                fluid=Fluid(depth=SPHERIC_BENCHMARK_SWL, surface_level=depth), options=opts,
+                solids=[Solid(name="tank", shape=Tank(lo=(0, 0, 0), hi=(Lx, Ly, Lz), open=[]), layers=3),
+                        Solid(name="box", shape=Box(lo=box_lo, hi=box_hi), layers=3)],
+                fluids=[FluidRegion(shape=Box(lo=(x0, 0, 0), hi=(Lx, Ly, depth)))],
+                output=Output(interval=float(end_time)),
+                parameters=dict(dp=dp, precision=precision))
 
 
 DUALSPHYSICS_OPTIONS = dict(kernel="cubic", tensile_correction=True, coef_h=1.0, coef_sound=20.0,
