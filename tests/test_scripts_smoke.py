@@ -443,3 +443,14 @@ def test_thread_scaling(tmp_path):
     r = run(BENCH / "thread_scaling.py", "--threads", 1, 2, expect=2)
     assert r.stderr.strip() == ("thread_scaling.py: error: --threads must be between 1 and 1 (Numba's thread pool; "
                                 "NUMBA_NUM_THREADS sets it)")
+
+
+# --- validation/sluice-gate/ ---------------------------------------------------------------------------
+
+
+def test_sluice_gate_one_run_refuses_a_coarse_dp_in_one_line():
+    """one_run.py (the runs beyond `shoal validate sluice-gate --full`) passes the case's own check: a dp too
+    coarse for the opening is one line, exit 2, before anything runs. Its run is the validation's
+    (`run_sluice_gate`, run by `pytest -m validation tests/test_sluice_gate_and_weir.py`)."""
+    r = run(ROOT / "validation" / "sluice-gate" / "one_run.py", "--dp", 0.05, "--out", "x", expect=2)
+    assert r.stderr.count("\n") == 1 and "the gate opening is 0.06 m" in r.stderr
