@@ -36,6 +36,42 @@ def test_critical_discharge_is_the_most_a_head_can_pass(head):
     assert C_IDEAL == pytest.approx(0.3849, abs=1e-4)
 
 
+def test_steady_measures_reads_the_gauges_over_the_window(tmp_path):
+    """`steady_measures` from records written as the probes write them: the discharge is the counted volume's
+    change over the window over its length, y2 the mean of the jet's gauges at 3 a and 5 a, Cd and Cc from
+    them, and the jet's profile keyed by the gauges' distance in openings, in the order of that distance; the
+    samples outside the window are left out."""
+    from shoal.cases.sluice_gate import JET_GAUGES
+    from shoal.validation.sluice_gate import WINDOW, profile_note, steady_measures
+
+    a, q, y1 = 0.06, 0.085, 0.3
+    t = np.round(np.arange(0.0, 6.0 + 1e-9, 0.02), 2)
+    inside = (t >= WINDOW[0]) & (t <= WINDOW[1])
+    for name, rate in (("upstream", 1.01 * q), ("downstream", q)):
+        rows = "".join(f"{ti:g},{rate * ti:.9g},0,0,{0.25 if w else 9.0}\n" for ti, w in zip(t, inside))
+        (tmp_path / f"flow_{name}.csv").write_text("time,volume,rate,rate_slab,area_slab\n" + rows)
+
+    def gauge(name, level):
+        rows = "".join(f"{ti:g},{level if w else 1.0}\n" for ti, w in zip(t, inside))
+        (tmp_path / f"gauge_{name}.csv").write_text("time,level\n" + rows)
+
+    gauge("y1", y1)
+    depth = {k: (0.70 - 0.01 * k) * a for k in JET_GAUGES}
+    for k, d in depth.items():
+        gauge(f"jet{k:g}a", d)
+    m = steady_measures(tmp_path, a)
+    assert m["q_downstream"] == pytest.approx(q, rel=1e-6)
+    assert m["q_upstream"] == pytest.approx(1.01 * q, rel=1e-6)
+    assert m["area_downstream"] == pytest.approx(0.25)
+    assert m["y1"] == pytest.approx(y1)
+    assert m["y2"] == pytest.approx(0.5 * (depth[3.0] + depth[5.0]))
+    assert m["cd"] == pytest.approx(q / (a * math.sqrt(2 * G * y1)), rel=1e-6)
+    assert m["cc"] == pytest.approx(m["y2"] / a)
+    assert list(m["jet_profile"]) == ["1", "1.5", "2", "2.5", "3", "4", "5"]
+    assert list(m["jet_profile"].values()) == pytest.approx([0.70 - 0.01 * k for k in JET_GAUGES])
+    assert profile_note(m) == "; y / a at 1, 1.5, 2, 2.5, 3, 4, 5 a: 0.690, 0.685, 0.680, 0.675, 0.670, 0.660, 0.650"
+
+
 def test_the_gate_opening_is_the_gap_between_the_walls_surfaces():
     """The gate's lowest row of particles sits half a spacing above the opening a, as the bed's top row sits
     half a spacing below z = 0: the gap between the walls' surfaces (half a spacing outside their particles) is

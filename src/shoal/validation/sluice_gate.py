@@ -100,7 +100,9 @@ def steady_measures(run_dir, a, window=WINDOW):
     """What a sluice-gate run gives over the steady `window` [s]: the discharge q past the gate and through the
     reservoir (the counted volume's change over the window divided by its length), the mean depths y1 upstream
     and y2 of the jet (wave gauges; `DEPTH_MEASURE`), and from them Cd = q / (a sqrt(2 g y1)) and the
-    contraction y2 / a; also the flow gauges' wetted areas (``area_upstream``, ``area_downstream``)."""
+    contraction y2 / a; also the flow gauges' wetted areas (``area_upstream``, ``area_downstream``) and the jet's
+    mean depth over a at each of its gauges (``jet_profile``, keyed by the gauge's distance past the gate in
+    openings, `shoal.cases.sluice_gate.JET_GAUGES`)."""
     run = Path(run_dir)
     out = {}
     for name in ("upstream", "downstream"):
@@ -111,7 +113,18 @@ def steady_measures(run_dir, a, window=WINDOW):
     out["cd"] = out["q_downstream"] / (a * math.sqrt(2 * G * out["y1"]))
     out["cc"] = out["y2"] / a
     out["cd_theory"] = free_flow_discharge_coefficient(a, out["y1"])
+    out["jet_profile"] = {f"{f.stem[len('gauge_jet'):-1]}": window_level(read_record(f), window) / a
+                          for f in sorted(run.glob("gauge_jet*a.csv"), key=lambda f: float(f.stem[9:-1]))}
     return out
+
+
+def profile_note(measured):
+    """The jet's surface through the contraction, "; y / a at 1, 1.5, ... a: 0.679, 0.660, ...", from
+    `steady_measures`'s ``jet_profile`` (empty for results measured before the case had those gauges)."""
+    prof = measured.get("jet_profile") or {}
+    if not prof:
+        return ""
+    return f"; y / a at {', '.join(prof)} a: {', '.join(f'{v:.3f}' for v in prof.values())}"
 
 
 def run_timed(case, out, backend="cpu"):
@@ -149,9 +162,10 @@ class SluiceGate(ValidationCase):
              "(`velocity_mode = \"riemann\"`, running mean over 3 s) drains under a vertical gate with a sharp "
              "lip (a flat 1.25 dp long, a 45-degree bevel downstream) a above a free-slip bed, into a "
              "supercritical jet that leaves the flume 0.6 m past the gate; a = 0.06 and 0.09 m (a / y0 = 0.2, "
-             "0.3). Adami walls, alpha = 0.01, c0 = 10 sqrt(g y0), float32. Over the steady part of the run "
-             "(3.5 to 6 s): q counted through a section 4 a past the lip, y1 at mid-reservoir and y2 the mean of "
-             "the jet's wave gauges 3 a and 5 a past the lip. `--quick`: dp = 0.01 m (a = 6 and 9 dp); `--full`: "
+             "0.3). Adami walls, alpha = 0.01, c0 = 10 sqrt(g y0), density diffusion delta = 0.2, float32. Over the "
+             "steady part of the run (3.5 to 6 s): q counted through a section 4 a past the lip, y1 at "
+             "mid-reservoir and y2 the mean of the jet's wave gauges 3 a and 5 a past the lip (the note gives the "
+             "surface's profile from 1 a on). `--quick`: dp = 0.01 m (a = 6 and 9 dp); `--full`: "
              "dp = 0.005 m (a = 12 and 18 dp).")
     reference = ("Free flow under a vertical gate, Henderson (1966) section 6.3: y2 = Cc a with Cc = 0.61, and "
                  "Cd = q / (a sqrt(2 g y1)) = Cc / sqrt(1 + Cc a / y1) from the energy equation (the approach "
@@ -191,7 +205,7 @@ class SluiceGate(ValidationCase):
                        note=f"{m['cd']:.4f} against {m['cd_theory']:.4f} (y1 = {m['y1']:.4f} m, q = "
                             f"{m['q_downstream']:.5f} m^2/s)"),
                 Metric(f"jet depth y2, a = {a:g} m, against Cc a", m["cc"] / CC - 1, TOLERANCE,
-                       note=f"y2 = {m['y2']:.4f} m, y2 / a = {m['cc']:.4f} against {CC}"),
+                       note=f"y2 = {m['y2']:.4f} m, y2 / a = {m['cc']:.4f} against {CC}" + profile_note(m)),
                 Metric(f"steadiness, a = {a:g} m: reservoir discharge against the gate's", m["q_upstream"] /
                        m["q_downstream"] - 1, None, note=f"{m['q_upstream']:.5f} m^2/s through mid-reservoir"),
                 Metric(f"flow gauge's wetted area at mid-reservoir, a = {a:g} m, against y1",
