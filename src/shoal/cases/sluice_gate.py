@@ -36,15 +36,14 @@ from ..options import SPHOptions
 from ._checks import check_dp, check_positive
 
 SLUICE_OPTIONS = dict(wall_pressure="adami", visco_bound_factor=0.0, alpha=0.01, coef_sound=10.0, delta=0.2)
-"""The scheme's options beyond the defaults: Adami walls, a free-slip bed, and an artificial viscosity of
+"""The scheme's options beyond the defaults: Adami walls, a free-slip bed, an artificial viscosity of
 alpha = 0.01 with c0 = 10 sqrt(g y0) (at the defaults, alpha = 0.1 and c0 = 20 sqrt(g y0), the viscosity
 alpha h c0 / 8 makes the jet's Reynolds number U a / nu about 50 at a = 12 dp, and the jet under the gate a
-viscous one that barely contracts), and twice the default density diffusion (Fourtakas et al. 2019's term with
-delta = 0.2). The jet's depth depends on delta at the resolutions a workstation affords: at dp = 0.01 m,
-a = 0.06 m, y2 / (0.61 a) - 1 is +24.7 % without the term, +6.3 % at delta = 0.1, +4.5 % at 0.2 and +3.3 % at
-0.3 (the discharge coefficient +6.2, +1.7, +0.4 and -0.8 %); the pressure's scatter about the hydrostatic of the jet's
-surface falls from 87 to 65 Pa from delta = 0.1 to 0.2 (`validation/sluice-gate/README.md`). The term is of
-order h and vanishes as dp does."""
+viscous one that barely contracts), and twice the default density diffusion, delta = 0.2. The jet's depth
+depends on delta: at dp = 0.01 m, a = 0.06 m, y2 / (0.61 a) - 1 is +24.7 % without the term, +6.3 % at
+delta = 0.1, +4.5 % at 0.2 and +3.3 % at 0.3 (Cd +6.2, +1.7, +0.4, -0.8 %); at dp = 5 and 2.5 mm delta = 0.2
+gives +4.9 and +4.8 % where 0.1 gives +6.2 and +5.4 % (`validation/sluice-gate/README.md`). The term is of
+order h; its effect falls as dp does."""
 
 JET_GAUGES = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0)
 """Where the jet's wave gauges stand, in openings a past the gate's upstream face: the validation's depth y2 is

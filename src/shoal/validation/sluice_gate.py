@@ -162,8 +162,8 @@ class SluiceGate(ValidationCase):
              "(`velocity_mode = \"riemann\"`, running mean over 3 s) drains under a vertical gate with a sharp "
              "lip (a flat 1.25 dp long, a 45-degree bevel downstream) a above a free-slip bed, into a "
              "supercritical jet that leaves the flume 0.6 m past the gate; a = 0.06 and 0.09 m (a / y0 = 0.2, "
-             "0.3). Adami walls, alpha = 0.01, c0 = 10 sqrt(g y0), density diffusion delta = 0.2, float32. Over the "
-             "steady part of the run (3.5 to 6 s): q counted through a section 4 a past the lip, y1 at "
+             "0.3). Adami walls, alpha = 0.01, c0 = 10 sqrt(g y0), density diffusion delta = 0.2, float32. Over the steady part "
+             "of the run (3.5 to 6 s): q counted through a section 4 a past the lip, y1 at "
              "mid-reservoir and y2 the mean of the jet's wave gauges 3 a and 5 a past the lip (the note gives the "
              "surface's profile from 1 a on). `--quick`: dp = 0.01 m (a = 6 and 9 dp); `--full`: "
              "dp = 0.005 m (a = 12 and 18 dp).")
