@@ -18,8 +18,9 @@ vertical gate), and the energy equation between the upstream section (depth y1) 
     q = Cc a sqrt(2 g y1 / (1 + Cc a / y1)),   Cd = q / (a sqrt(2 g y1)) = Cc / sqrt(1 + Cc a / y1).
 
 Gauges: the depth upstream (wave gauge `y1` at mid-reservoir) and of the jet 3 a and 5 a past the gate's lip
-(`jet3a`, `jet5a`; the profile through the contraction from 1 a on, `JET_GAUGES`), the discharge through the reservoir and through the jet 4 a past the lip (flow gauges
-`upstream`, `downstream`; `shoal.validation.sluice_gate` reads them).
+(`jet3a`, `jet5a`; the profile through the contraction from 1 a on, `JET_GAUGES`), the discharge through the
+reservoir and through the jet 4 a past the lip (flow gauges `upstream`, `downstream`;
+`shoal.validation.sluice_gate` reads them).
 
 References
 ----------

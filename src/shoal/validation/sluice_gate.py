@@ -113,8 +113,8 @@ def steady_measures(run_dir, a, window=WINDOW):
     out["cd"] = out["q_downstream"] / (a * math.sqrt(2 * G * out["y1"]))
     out["cc"] = out["y2"] / a
     out["cd_theory"] = free_flow_discharge_coefficient(a, out["y1"])
-    out["jet_profile"] = {f"{f.stem[len('gauge_jet'):-1]}": window_level(read_record(f), window) / a
-                          for f in sorted(run.glob("gauge_jet*a.csv"), key=lambda f: float(f.stem[9:-1]))}
+    jets = {f.stem[len("gauge_jet"):-1]: f for f in run.glob("gauge_jet*a.csv")}  # "gauge_jet1.5a" -> "1.5"
+    out["jet_profile"] = {k: window_level(read_record(jets[k]), window) / a for k in sorted(jets, key=float)}
     return out
 
 
