@@ -27,32 +27,8 @@ import numpy as np
 import shoal
 from shoal.options import SPHOptions
 from shoal.probes import PressureSensors
-from shoal.validation.spheric_test2 import (BOX_HI, H0, P_FACE, P_Y, PEAK_SMOOTH, RHO0, WALLS, load_reference,
-                                            pressure_peak, spheric_test2_case)
-
-G = 9.81
-
-
-def running_mean(t, p, width):
-    n = max(1, int(round(width / np.median(np.diff(t)))))
-    return np.convolve(p, np.ones(n) / n, mode="same") if n > 1 else p
-
-
-def metrics(t, p, t_ref, p_ref, window=(0.0, 1.0)):
-    out = {}
-    for label, smooth in (("smoothed", PEAK_SMOOTH), ("raw", 0.0)):
-        tp, pp = pressure_peak(t, p, *window, smooth=smooth)
-        tr, pr = pressure_peak(t_ref, p_ref, *window, smooth=smooth)
-        out[label] = dict(t=tp, p=pp, t_ref=tr, p_ref=pr, dt=tp - tr, rel=(pp - pr) / pr)
-    t_imp = out["smoothed"]["t_ref"]
-    sel = (t >= t_imp - 0.02) & (t <= t_imp + 0.25)
-    out["min_after_impact"] = float(np.min(p[sel])) / (RHO0 * G * H0)
-    tp = out["raw"]["t"]
-    after = t >= tp + 0.005
-    late = after & (t <= tp + 0.25)
-    ring = np.abs(p - running_mean(t, p, PEAK_SMOOTH))[late]
-    out["ringing"] = float(ring.max() / max(out["raw"]["p"], 1e-9)) if ring.size else float("nan")
-    return out
+from shoal.validation.spheric_test2 import BOX_HI, P_FACE, P_Y, WALLS, load_reference, spheric_test2_case
+from shoal.validation.wall_impact import first_peak
 
 
 def main(argv=None):
@@ -86,11 +62,11 @@ def main(argv=None):
     for k, name in enumerate(P_FACE):
         for how, series in (("probe dp/2 off", np.nan_to_num(probes[:, 1 + 5 * k + 3])), ("sensor linear", lin[:, 1 + k]),
                             ("sensor hydro", hyd[:, 1 + k])):
-            m = metrics(t, series, ref["t"], ref["pressure"][name], (0.0, min(1.0, a.end)))
+            m = first_peak(t, series, ref["t"], ref["pressure"][name], (0.0, min(1.0, a.end)))
             results["sensors"].setdefault(name, {})[how] = m
             s, r = m["smoothed"], m["raw"]
             print(f"{name:4} {how:14} {s['t']:7.3f} {s['dt']:+7.3f} {s['p']:8.0f} {s['rel']:+7.1%} | {r['dt']:+7.3f} "
-                  f"{r['rel']:+8.1%} | {m['min_after_impact']:12.2f} {m['ringing']:8.2f}", flush=True)
+                  f"{r['rel']:+8.1%} | {m['min_after']:12.2f} {m['ringing']:8.2f}", flush=True)
     if a.json:
         Path(a.json).write_text(json.dumps(results, indent=1))
 

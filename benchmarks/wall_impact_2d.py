@@ -22,25 +22,10 @@ import shoal
 from shoal.cases import dam_break_2d
 from shoal.options import SPHOptions
 from shoal.probes import PressureSensors
+from shoal.validation.wall_impact import ringing
 
 RHO0, G, A = 1000.0, 9.81, 0.146
 HEIGHTS = (0.05, 0.25, 0.5)
-
-
-def running_mean(t, p, width):
-    n = max(1, int(round(width / np.median(np.diff(t)))))
-    return np.convolve(p, np.ones(n) / n, mode="same") if n > 1 else p
-
-
-def impact_metrics(t, p, scale):
-    wet = np.flatnonzero(p != 0)
-    if not len(wet):
-        return dict(t_contact=np.nan, t_peak=np.nan, peak=np.nan, min=np.nan, ringing=np.nan)
-    k = int(np.argmax(p))
-    after = (t >= t[k] + 0.005) & (t <= t[k] + 0.1)
-    ring = np.abs(p - running_mean(t, p, 0.005))[after]
-    return dict(t_contact=float(t[wet[0]]), t_peak=float(t[k]), peak=float(p[k]) / scale,
-                min=float(p[wet[0]:].min()) / scale, ringing=float(ring.max() / p[k]) if ring.size else np.nan)
 
 
 def main(argv=None):
@@ -86,8 +71,8 @@ def main(argv=None):
         print(f"  {'z/a':>5} {'method':12} {'contact':>8} {'peak t':>8} {'peak':>7} {'min':>7} {'ringing':>8}")
         for k, f in enumerate(HEIGHTS):
             for m, d in data.items():
-                r = impact_metrics(d[:, 0], d[:, 1 + k], scale)
-                print(f"  {f:5.2f} {m:12} {r['t_contact']:8.4f} {r['t_peak']:8.4f} {r['peak']:7.2f} {r['min']:7.2f} "
+                r = ringing(d[:, 0], d[:, 1 + k])
+                print(f"  {f:5.2f} {m:12} {r['t_contact']:8.4f} {r['t_peak']:8.4f} {r['peak'] / scale:7.2f} {r['min'] / scale:7.2f} "
                       f"{r['ringing']:8.2f}", flush=True)
 
 

@@ -40,6 +40,7 @@ from .ship_section_decay import ShipSectionDecay
 from .ship_section_waves import ShipSectionWaves
 from .sluice_gate import SluiceGate
 from .spheric_test2 import SphericTest2
+from .wall_impact import WallImpact
 from .wave_flume import WaveFlume
 from .weir import BroadCrestedWeir
 
@@ -48,7 +49,7 @@ __all__ = ["VALIDATION_CASES", "get_cases", "run_validation", "ValidationCase", 
            "ResolutionStudy", "SphericTest2", "BridgePiers", "WaveFlume", "PeriodicRunup", "ActiveAbsorptionCase",
            "FlapWaves", "FocusedWave", "HeaveDecay", "RollDecay",
            "ShipSectionDecay", "FloatingBoxWaves", "ShipSectionWaves",
-           "Archimedes", "SluiceGate", "BroadCrestedWeir",
+           "Archimedes", "SluiceGate", "BroadCrestedWeir", "WallImpact",
            "PendingCase", "find_validation_dir", "default_quick_set"]
 
 QUICK_SET_LIMIT = 600.0

@@ -23,6 +23,7 @@ from .ship_section_waves import ShipSectionWaves
 from .sluice_gate import SluiceGate
 from .weir import BroadCrestedWeir
 from .spheric_test2 import SphericTest2
+from .wall_impact import WallImpact
 from .wave_flume import WaveFlume
 
 
@@ -37,6 +38,7 @@ def all_cases():
         ResolutionStudy(),
         RipCurrent(),
         SphericTest2(),
+        WallImpact(),
         WaveFlume(),
         PeriodicRunup(),
         FocusedWave(),
