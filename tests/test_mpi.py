@@ -202,7 +202,7 @@ def _particle_probes(interval):
             FlowGauge(name="cut", at=0.17, interval=interval),
             ForceGauge(name="tank", solid="tank", interval=interval),
             PressureSensors(name="bed", points=[(0.07, 0.08, 0.0), (0.17, 0.08, 0.0), (0.25, 0.08, 0.0)],
-                            interval=interval)]
+                            normal=(0.0, 0.0, 1.0), interval=interval)]
 
 
 @pytest.fixture(scope="module")

@@ -68,6 +68,44 @@ def test_the_linear_fit_is_exact_for_a_pressure_gradient_along_the_wall_and_acro
     assert abs(hydro[0] - exact[0]) > 0.05 * abs(a) * m.h  # off by the x-gradient times the centroid's offset
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_sensor_with_a_normal_sees_only_the_fluid_in_front_of_its_face(dim):
+    """With the wall's normal n, a sensor at x_s counts only the fluid particles in front of the wall's
+    plane through it or less than half a spacing behind it, (x_j - x_s) . n >= -dp/2 (a transducer sees
+    nothing behind its face: water over the wall's edge, or beyond a thin wall). Inside the water at rest,
+    a quarter spacing off a lattice column (no particle within dp/4 of the cut): the kernel sum equals the
+    Wendland sum sum_j m / rho_j W(|x_s - x_j|, h) over those particles computed here, which leaves out
+    a part of the support, and each side's hydrostatic average still reads rho0 g (H - z)."""
+    from shoal.physics.spec import kernel_normalisation
+
+    case = _tank(dim)
+    H, dp = case.fluid.depth, case.dp
+    m = build_model(case)
+    m.sort()
+    y = 0.0 if dim == 2 else 0.15
+    x = (20.25 if dim == 2 else 5.25) * dp
+    pts = np.array([[x, y, 0.1], [x, y, 0.15]])
+    full = m.sensor_moments(pts)
+    pos = m.host(m.pos).astype(np.float64)
+    fluid = m.host(m.kind) == 0
+    world = pos if dim == 3 else np.column_stack([pos[:, 0], np.zeros(len(pos)), pos[:, 1]])
+    vol = m.mass / m.host(m.rho).astype(np.float64)
+    assert case.options.kernel == "wendland"
+    aw = kernel_normalisation(m.spec.kernel, dim, m.h)
+    for sign in (1.0, -2.0):
+        normal = np.array([sign, 0.0, 0.0])
+        mom = m.sensor_moments(pts, np.array([normal] * 2))
+        for k, pt in enumerate(pts):
+            q = np.linalg.norm(world - pt, axis=1) / m.h
+            front = fluid & ((world - pt) @ normal / abs(sign) >= -0.5 * dp)
+            t = np.clip(1 - 0.5 * q, 0, None)
+            expected = np.sum(vol[front] * aw * t[front]**4 * (2 * q[front] + 1))
+            assert mom[k, 0] == pytest.approx(expected, rel=1e-9)
+            assert mom[k, 0] < 0.9 * full[k, 0]  # the cut leaves out a part of the support
+        np.testing.assert_allclose(fit_pressure(mom, dim, m.h, m.rho0, m.gravity), RHO0 * G * (H - pts[:, 2]),
+                                   rtol=1e-9)
+
+
 def test_a_dry_sensor_reads_zero_and_a_thin_sheet_falls_back_to_the_hydrostatic_average():
     """No fluid within 2h, or a kernel sum below `kernel_sum_min`: 0 Pa (gauge pressure). One row of particles: the moment matrix is singular
     across the row, so the fit falls back to the hydrostatic Shepard average (finite, not a blow-up)."""

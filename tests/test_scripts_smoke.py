@@ -170,9 +170,9 @@ def test_impact_pressure(tmp_path):
     res = json.loads(out.read_text())
     assert sorted(res["sensors"]) == ["P1", "P2", "P3", "P4"] and res["end"] == 0.05
     for s in res["sensors"].values():
-        assert sorted(s) == ["probe dp/2 off", "sensor hydro", "sensor linear"]
+        assert sorted(s) == ["probe dp/2 off", "sensor hydro", "sensor linear", "sensor open"]
         assert all(m["smoothed"]["p"] == 0 for m in s.values())  # dry: no impact before 0.05 s
-    assert len(rows(r.stdout, r"P\d\s+(probe|sensor)")) == 12
+    assert len(rows(r.stdout, r"P\d\s+(probe|sensor)")) == 16
 
 
 def test_jonswap_flume_analysis_of_the_linear_record(tmp_path):

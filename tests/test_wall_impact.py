@@ -67,13 +67,15 @@ def test_first_peak_against_the_experiment():
 
 
 def test_quick_wall_impact(tmp_path):
-    """`shoal validate wall-impact --quick` passes: the 2D surge's pressure on the far wall rings by at most 20 % of
-    its peak after 5 ms, unfiltered, at all three heights (one core: about 50 s)."""
+    """`shoal validate wall-impact --quick` passes: the 2D surge's pressure at the bottom of the far wall rings by at
+    most 20 % of its peak after 5 ms, unfiltered (issue 28, item 4; measured 16.3 % on two machines whose
+    round-off differs); the two sensors higher up are reported, not judged (one core: about 50 s)."""
     case = WallImpact()
     res = case.run(quick=True, backend="cpu", out=tmp_path)
     figures, passed = case.compare(res)
     assert passed, [(m.name, m.value, m.note) for m in res.metrics]
     assert [m.name.split(":")[0] for m in res.metrics] == [f"2D wall, z = {f:g} a" for f in (0.05, 0.25, 0.5)]
+    assert [m.passed for m in res.metrics] == [True, None, None]
     assert figures and figures[0].exists()
     two = res.data["two"]
     assert np.median(np.diff(two["t"])) == pytest.approx(2e-4)

@@ -379,7 +379,7 @@ class Model:
                     "velocity": vel * inv[:, None]}
         return {"kernel_sum": s, "pressure": sums[:, 1], "density": sums[:, 2], "velocity": vel}
 
-    def sensor_moments(self, points):
+    def sensor_moments(self, points, normals=None):
         """The fluid's weighted moments around fixed points (`shoal.physics.interpolation.make_sensor_moments`),
         from which `shoal.probes.pressure_sensors.fit_pressure` extrapolates the pressure to each point.
 
@@ -387,6 +387,10 @@ class Model:
         ----------
         points : (M, 3) array
             World coordinates [m].
+        normals : (M, 3) array, optional
+            The normal of the wall at each point (out of the wall into the fluid, any length; zero for
+            none): only the fluid in front of the wall's plane through the point, or less than half a
+            spacing behind it, counts.
 
         Returns
         -------
@@ -395,12 +399,19 @@ class Model:
         from .physics.interpolation import n_moment_columns
 
         internal = self._internal_points(points)
+        faced = np.zeros((len(internal), 7))
+        faced[:, :3] = internal
+        if normals is not None:
+            n = self._internal_points(normals)
+            length = np.linalg.norm(n, axis=1, keepdims=True)
+            faced[:, 3:6] = np.divide(n, length, out=np.zeros_like(n), where=length > 0)
+            faced[:, 6] = 0.5 * self.dp
         b = self.backend
         self.refresh_ghosts()
         self.ghosts_spent()
         key = len(internal)
         out, glo = self._point_buffers("_moment_buf", key, n_moment_columns(self.dim))
-        b.timed(b.sensor_moments, key, (b.asarray(internal), self.pos, self.rho, self.kind, self.grid.cell_start,
+        b.timed(b.sensor_moments, key, (b.asarray(faced), self.pos, self.rho, self.kind, self.grid.cell_start,
                                         self.grid.gdims_arr, glo, 1.0 / self.grid.cell_size, self.P, out))
         moments = b.to_host(out, 0, key).astype(np.float64)
         moments[~self.answers(internal)] = 0.0

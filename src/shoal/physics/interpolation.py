@@ -78,6 +78,13 @@ def make_sensor_moments(jit, spec, kernels, pressure, make_point_gather, unpack)
     weighted moments of the fluid around point k from which `shoal.probes.pressure_sensors` fits the
     pressure by linear least squares.
 
+    ``points[k, :3]`` is the point, ``points[k, 3:6]`` the unit normal n_k of the wall it sits on (out of
+    the wall into the fluid; zero for none) and ``points[k, 6]`` a depth b_k >= 0. Only the fluid
+    particles in front of the wall's plane through the point, or less than b_k behind it, count:
+    (x_j - x_k) . n_k >= -b_k. A transducer's face sees nothing behind it (water that has run over the
+    wall's edge, or lies on the other side of a thin wall); b_k (half a spacing) keeps the particles that
+    an impact has pressed a fraction of a spacing past the wall's surface, which still touch it.
+
     With weights w_j = V_j W(x_k - x_j) over the fluid particles within 2h (V_j = m_j / rho_j) and the
     offsets e_j = (x_j - x_k) / h, out[k] holds, in 3D,
 
@@ -95,8 +102,11 @@ def make_sensor_moments(jit, spec, kernels, pressure, make_point_gather, unpack)
     @jit
     def moment_pair(acc, own, j, dx, dy, dz, r2, sy, data, P):
         s, ex, ey, ez, exx, exy, exz, eyy, eyz, ezz, sp, px, py, pz = acc
-        rho, kind = data
+        rho, kind, points = data
         if kind[j] != FLUID:
+            return acc
+        # (dx, dy, dz) = point - x_j, so j is behind the wall's plane where it has a positive projection
+        if dx * F(points[own, 3]) + dy * F(points[own, 4]) + dz * F(points[own, 5]) > F(points[own, 6]):
             return acc
         rj = rho[j]
         wj = P.mass_f / rj * w(r2 ** F(0.5) * P.inv_h, P)
@@ -115,7 +125,8 @@ def make_sensor_moments(jit, spec, kernels, pressure, make_point_gather, unpack)
         gdims = (grid_dims[0], grid_dims[1], grid_dims[2])
         acc = (zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero, zero)
         s, ex, ey, ez, exx, exy, exz, eyy, eyz, ezz, sp, px, py, pz = gather_at(
-            points[k, 0], points[k, 1], points[k, 2], 0, acc, pos, cell_start, gdims, glo, inv_cs, (rho, kind), P)
+            points[k, 0], points[k, 1], points[k, 2], k, acc, pos, cell_start, gdims, glo, inv_cs,
+            (rho, kind, points), P)
         out[k, 0] = s
         if dim == 3:
             out[k, 1] = ex
