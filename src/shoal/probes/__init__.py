@@ -241,8 +241,8 @@ class PressureSensors(Spec):
     under deep water, about 0.2 at the contact line of a front) is dry and reads 0.
 
     `normal` (any length; the direction out of the wall into the fluid) makes each sensor count only the
-    fluid in front of the wall's plane through it, or less than half a spacing behind it (a transducer sees nothing behind its face: water that
-    has run over the wall's edge, or lies beyond a thin wall). `diameter` [m] > 0 averages each sensor
+    fluid in front of the wall's plane through it, or less than half a spacing behind it (a transducer
+    sees nothing behind its face: water that has run over the wall's edge, or lies beyond a thin wall). `diameter` [m] > 0 averages each sensor
     over a disc of that diameter on the wall (a segment in 2D), perpendicular to `normal`, which it then
     needs. The wall surface of a built-in solid lies half a particle spacing outside its
     outermost boundary particles (the lattice puts fluid and wall nodes at (i + 1/2) dp)."""

@@ -38,8 +38,8 @@ With the wall's unit normal n (out of the wall into the fluid) the sums run only
 of the wall's plane through the point or less than half a spacing behind it, (x_j - x_s) . n >= -dp/2:
 near an edge of the wall the support reaches over it, and the water that has run over the edge (or, on a
 thin wall, the water on its other side) is not what a transducer on this face feels; the half spacing
-keeps the particles an impact presses a fraction of a spacing past the wall's surface (without it, the
-2D dam break's sensor at z = 0.5 a on the far wall rang 22 % where it rings 16 %).
+keeps the particles an impact presses a fraction of a spacing past the wall's surface, which still touch
+it.
 
 A sensor whose kernel sum S is below `KERNEL_SUM_MIN` reads 0 (gauge pressure: dry). On a wall under
 deep water S is 1/2 (half the support holds fluid); at the contact line of a water front it is about
