@@ -5,7 +5,8 @@ Both impacts run with the scheme the user guide gives for the pressure water put
 diffusion, the delta-plus particle shifting of Sun et al. 2017, over walls whose pressure is extrapolated from
 the fluid, Adami et al. 2012, free-slip for the viscous term). Without the shifting the 2D wall's bottom sensor
 rang by 16 % at H/dp = 60 and 39 % at 120, and rebounded to -4.6 rho0 g H after the hammer; with it, 14 % at
-both and no rebound below zero (`benchmarks/results/issue28-shifting/`).
+both and no rebound below zero (at a coarse H/dp = 30, 22 % with it against 16 % without:
+`benchmarks/results/issue28-shifting/`).
 
 * **2D** (`impact_2d`): `dam-break-2d` (a column a x 2a, a = 0.146 m, in a tank 5a long) with wall pressure
   sensors (``type = "pressure"``, the fluid's pressure extrapolated to the wall's surface) on the far wall at
