@@ -4,8 +4,8 @@ Both impacts run with the scheme the user guide gives for the pressure water put
 (`IMPACT_OPTIONS`: the Riemann terms of Zhang, Hu & Adams 2017 in place of artificial viscosity and density
 diffusion, the delta-plus particle shifting of Sun et al. 2017, over walls whose pressure is extrapolated from
 the fluid, Adami et al. 2012, free-slip for the viscous term). Without the shifting the 2D wall's bottom sensor
-rang by 16 % at H/dp = 60 and 39 % at 120, and rebounded to -4.6 rho0 g H after the hammer; with it, 14 % at
-both and no rebound below zero (at a coarse H/dp = 30, 22 % with it against 16 % without:
+rang by 16 % at H/dp = 60 and 39 % at 120, and rebounded to -4.6 rho0 g H after the hammer; with it, 14-19 % at
+60 and 14-15 % at 120 (two lattices a 7e-5 spacing apart) and no deep rebound (at a coarse H/dp = 30, 22 % with it against 16 % without:
 `benchmarks/results/issue28-shifting/`).
 
 * **2D** (`impact_2d`): `dam-break-2d` (a column a x 2a, a = 0.146 m, in a tank 5a long) with wall pressure
