@@ -68,9 +68,8 @@ def test_first_peak_against_the_experiment():
 
 def test_quick_wall_impact(tmp_path):
     """`shoal validate wall-impact --quick` passes: the 2D surge's pressure at the bottom of the far wall rings by at
-    most 20 % of its peak after 5 ms, unfiltered (issue 28, item 4; measured 19.2 % with the impact scheme's particle
-    shifting, 16.3 % without it on two machines whose round-off differs); the two sensors higher up are reported,
-    not judged (one core: about 60 s)."""
+    most 20 % of its peak after 5 ms, unfiltered (issue 28, item 4; measured 16.3 % on two machines whose
+    round-off differs); the two sensors higher up are reported, not judged (one core: about 50 s)."""
     case = WallImpact()
     res = case.run(quick=True, backend="cpu", out=tmp_path)
     figures, passed = case.compare(res)
